@@ -1,0 +1,38 @@
+# Every dependency comes from a Debian 12 package (scripts/setup installs them all).
+# Each block names the package to install when the lookup fails.
+
+find_package(Eigen3 3.4 REQUIRED NO_MODULE)
+if(NOT TARGET Eigen3::Eigen)
+  message(FATAL_ERROR "Eigen3 not found: run scripts/setup (apt-get install libeigen3-dev)")
+endif()
+
+# CGAL is header-only here; keep its warnings out of ours.
+set(CGAL_DO_NOT_WARN_ABOUT_CMAKE_BUILD_TYPE TRUE)
+find_package(CGAL QUIET)
+if(NOT CGAL_FOUND)
+  message(FATAL_ERROR "CGAL not found: run scripts/setup (apt-get install libcgal-dev libgmp-dev libmpfr-dev)")
+endif()
+
+find_package(PNG QUIET)
+if(NOT PNG_FOUND)
+  message(FATAL_ERROR "libpng not found: run scripts/setup (apt-get install libpng-dev)")
+endif()
+
+find_package(CLI11 CONFIG QUIET)
+if(NOT CLI11_FOUND)
+  message(FATAL_ERROR "CLI11 not found: run scripts/setup (apt-get install libcli11-dev)")
+endif()
+
+find_package(tomlplusplus CONFIG QUIET)
+if(NOT tomlplusplus_FOUND)
+  message(FATAL_ERROR "toml++ not found: run scripts/setup (apt-get install libtomlplusplus-dev)")
+endif()
+
+find_package(Threads REQUIRED)
+
+if(CRACKLE_BUILD_TESTS)
+  find_package(doctest CONFIG QUIET)
+  if(NOT doctest_FOUND)
+    message(FATAL_ERROR "doctest not found: run scripts/setup (apt-get install doctest-dev)")
+  endif()
+endif()

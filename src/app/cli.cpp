@@ -1,0 +1,109 @@
+#include "app/cli.hpp"
+
+#include "app/commands.hpp"
+#include "core/error.hpp"
+#include "core/log.hpp"
+#include "core/progress.hpp"
+
+#include <CLI/CLI.hpp>
+
+#ifndef CRACKLE_VERSION
+#define CRACKLE_VERSION "unknown"
+#endif
+
+namespace crackle::app {
+
+namespace {
+
+void add_preset_options(CLI::App* cmd, io::PresetRequest& request)
+{
+    cmd->add_option("--set", request.overrides,
+                    "Override a preset key, e.g. --set material.thickness=[0.02,0.02] (repeatable)")
+        ->type_name("KEY=VALUE")
+        ->allow_extra_args(false);
+    cmd->add_option("--seed", request.seed, "Seed of all randomness (overrides simulation.seed)")
+        ->check(CLI::NonNegativeNumber);
+}
+
+}  // namespace
+
+int run(int argc, const char* const* argv, std::ostream& out, std::ostream& err)
+{
+    CLI::App app{"crackle: grows surfaces, cracks them with fracture mechanics, and bakes the cracks into "
+                 "texture maps and meshes.",
+                 "crackle"};
+    app.require_subcommand(1);
+    app.set_version_flag("--version", std::string("crackle ") + CRACKLE_VERSION);
+    int verbosity = 0;
+    bool quiet = false;
+    app.add_flag("-v,--verbose", verbosity, "More messages (repeat for debug output)");
+    app.add_flag("-q,--quiet", quiet, "Only errors; no progress bars or summaries");
+
+    // === presets
+    CLI::App* presets = app.add_subcommand("presets", "List, show or document presets");
+    presets->require_subcommand(1);
+    presets->add_subcommand("list", "List the built-in presets");
+    io::PresetRequest show_request;
+    CLI::App* show = presets->add_subcommand("show", "Print a preset fully resolved, defaults included");
+    show->add_option("NAME", show_request.name_or_path, "Built-in preset name or path to a .toml file")->required();
+    add_preset_options(show, show_request);
+    presets->add_subcommand("doc", "Print the preset reference (docs/presets.md) in Markdown");
+
+    // === mesh
+    MeshArgs mesh_args;
+    mesh_args.preset.name_or_path = "bark";
+    CLI::App* mesh = app.add_subcommand("mesh", "Discretize a preset's surface and report mesh quality");
+    mesh->add_option("PRESET", mesh_args.preset.name_or_path, "Built-in preset name or .toml path")
+        ->capture_default_str();
+    mesh->add_option("--obj", mesh_args.obj_path, "Write the surface mesh as Wavefront OBJ");
+    mesh->add_option("--json", mesh_args.json_path, "Write the report as JSON");
+    add_preset_options(mesh, mesh_args.preset);
+
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::CallForHelp& e) {
+        out << app.help();
+        return 0;
+    } catch (const CLI::CallForAllHelp& e) {
+        out << app.help("", CLI::AppFormatMode::All);
+        return 0;
+    } catch (const CLI::CallForVersion& e) {
+        out << e.what() << "\n";
+        return 0;
+    } catch (const CLI::ParseError& e) {
+        err << "error: " << e.what() << " (run 'crackle --help' for usage)\n";
+        return 2;
+    }
+
+    log::set_stream(&err);
+    log::set_level(quiet ? log::Level::Error : verbosity >= 2 ? log::Level::Debug
+                                           : verbosity == 1   ? log::Level::Info
+                                                              : log::Level::Warn);
+    set_progress_enabled(!quiet);
+    const GlobalOptions global{quiet};
+
+    int code = 0;
+    try {
+        if (presets->got_subcommand("list"))
+            code = presets_list(out);
+        else if (presets->got_subcommand("show"))
+            code = presets_show(show_request, out);
+        else if (presets->got_subcommand("doc"))
+            code = presets_doc(out);
+        else if (mesh->parsed())
+            code = mesh_command(mesh_args, global, out);
+    } catch (const InputError& e) {
+        err << "error: " << e.what() << "\n";
+        code = 2;
+    } catch (const NumericError& e) {
+        err << "error: numeric failure: " << e.what() << "\n";
+        code = 3;
+    } catch (const std::exception& e) {
+        err << "error: internal: " << e.what() << " (please report this with the command that caused it)\n";
+        code = 1;
+    }
+    log::set_stream(nullptr);
+    return code;
+}
+
+}  // namespace crackle::app

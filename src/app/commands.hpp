@@ -1,0 +1,30 @@
+#pragma once
+/// @file The subcommands, free of CLI parsing (cli.cpp maps arguments onto these).
+
+#include <optional>
+#include <ostream>
+#include <string>
+
+#include "io/preset.hpp"
+
+namespace crackle::app {
+
+/// Options every command shares.
+struct GlobalOptions {
+    bool quiet = false;
+};
+
+int presets_list(std::ostream& out);
+int presets_show(const io::PresetRequest& request, std::ostream& out);
+int presets_doc(std::ostream& out);
+
+struct MeshArgs {
+    io::PresetRequest preset;
+    std::string obj_path;   ///< "" = no OBJ
+    std::string json_path;  ///< "" = no report file
+};
+
+/// `crackle mesh`: discretize the preset's surface and report mesh figures.
+int mesh_command(const MeshArgs& args, const GlobalOptions& global, std::ostream& out);
+
+}  // namespace crackle::app

@@ -1,0 +1,41 @@
+#pragma once
+/// @file A preset turned into the pipeline's typed inputs: the surface, its growth field,
+/// material shrinkage and property fields, and the discretization options.
+
+#include <memory>
+
+#include "io/preset.hpp"
+#include "mesh/discretize.hpp"
+#include "mesh/surface.hpp"
+#include "sim/growth_field.hpp"
+#include "sim/property_field.hpp"
+#include "sim/reference_shape.hpp"
+
+namespace crackle::app {
+
+struct Scene {
+    mesh::Surface surface;
+    sim::GrowthField growth;
+    sim::ShrinkageOptions shrinkage;
+    sim::PropertyField thickness;
+    sim::PropertyField young_modulus;
+    sim::PropertyField threshold_stress;
+    sim::PropertyField toughness;
+    double poisson_ratio;
+    mesh::DiscretizeOptions discretize;
+    bool density_follows_thickness = false;
+    std::uint64_t seed = 1;
+};
+
+mesh::SurfaceOptions surface_options(const io::Preset& preset);
+sim::GrowthOptions growth_options(const io::Preset& preset);
+/// Reads [variation.<property>]; loads the image of an image pattern.
+sim::VariationOptions variation_options(const io::Preset& preset, const std::string& property);
+
+/// Builds every typed input; throws InputError (e.g. an unreadable image).
+std::unique_ptr<Scene> make_scene(const io::Preset& preset);
+
+/// Discretizes the scene's surface (§5.2), density following thickness when asked.
+mesh::SurfaceMesh discretize_scene(const Scene& scene, StepTimes* times);
+
+}  // namespace crackle::app

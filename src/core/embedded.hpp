@@ -1,0 +1,20 @@
+#pragma once
+/// @file Text files compiled into the binary (cmake/crackle_embed.cmake): presets, shaders.
+
+#include <string_view>
+#include <vector>
+
+namespace crackle {
+
+struct EmbeddedFile {
+    std::string_view name;  ///< path relative to its folder, without extension ("bark/elm")
+    std::string_view path;  ///< path relative to its folder ("bark/elm.toml")
+    std::string_view text;
+};
+
+namespace embedded {
+/// presets/**/*.toml
+const std::vector<EmbeddedFile>& presets();
+}  // namespace embedded
+
+}  // namespace crackle

@@ -1,0 +1,123 @@
+#include "core/json.hpp"
+
+#include "core/error.hpp"
+
+#include <cmath>
+#include <cstdio>
+
+namespace crackle {
+
+Json& Json::operator[](const std::string& key)
+{
+    if (std::holds_alternative<std::nullptr_t>(m_value)) m_value = Object{};
+    auto& obj = std::get<Object>(m_value);
+    for (auto& [k, v] : obj)
+        if (k == key) return v;
+    obj.emplace_back(key, Json());
+    return obj.back().second;
+}
+
+const Json* Json::find(const std::string& key) const
+{
+    if (!is_object()) return nullptr;
+    for (const auto& [k, v] : std::get<Object>(m_value))
+        if (k == key) return &v;
+    return nullptr;
+}
+
+void Json::push_back(Json v)
+{
+    if (std::holds_alternative<std::nullptr_t>(m_value)) m_value = Array{};
+    std::get<Array>(m_value).push_back(std::move(v));
+}
+
+double Json::as_number() const
+{
+    if (const auto* d = std::get_if<double>(&m_value)) return *d;
+    if (const auto* i = std::get_if<std::int64_t>(&m_value)) return static_cast<double>(*i);
+    CRACKLE_ASSERT(false, "JSON value is not a number");
+}
+
+namespace {
+void escape(std::string& out, const std::string& s)
+{
+    out += '"';
+    for (char c : s) {
+        switch (c) {
+        case '"': out += "\\\""; break;
+        case '\\': out += "\\\\"; break;
+        case '\n': out += "\\n"; break;
+        case '\t': out += "\\t"; break;
+        case '\r': out += "\\r"; break;
+        default:
+            if (static_cast<unsigned char>(c) < 0x20) {
+                char buf[8];
+                std::snprintf(buf, sizeof buf, "\\u%04x", c);
+                out += buf;
+            } else {
+                out += c;
+            }
+        }
+    }
+    out += '"';
+}
+}  // namespace
+
+void Json::dump_to(std::string& out, int indent) const
+{
+    const std::string pad(static_cast<size_t>(indent + 2), ' ');
+    const std::string close_pad(static_cast<size_t>(indent), ' ');
+    if (std::holds_alternative<std::nullptr_t>(m_value)) {
+        out += "null";
+    } else if (const auto* b = std::get_if<bool>(&m_value)) {
+        out += *b ? "true" : "false";
+    } else if (const auto* i = std::get_if<std::int64_t>(&m_value)) {
+        out += std::to_string(*i);
+    } else if (const auto* d = std::get_if<double>(&m_value)) {
+        if (!std::isfinite(*d)) {
+            out += "null";
+        } else {
+            char buf[32];
+            std::snprintf(buf, sizeof buf, "%.10g", *d);
+            out += buf;
+        }
+    } else if (const auto* s = std::get_if<std::string>(&m_value)) {
+        escape(out, *s);
+    } else if (const auto* a = std::get_if<Array>(&m_value)) {
+        if (a->empty()) {
+            out += "[]";
+            return;
+        }
+        out += "[\n";
+        for (size_t k = 0; k < a->size(); ++k) {
+            out += pad;
+            (*a)[k].dump_to(out, indent + 2);
+            out += k + 1 < a->size() ? ",\n" : "\n";
+        }
+        out += close_pad + "]";
+    } else if (const auto* o = std::get_if<Object>(&m_value)) {
+        if (o->empty()) {
+            out += "{}";
+            return;
+        }
+        out += "{\n";
+        for (size_t k = 0; k < o->size(); ++k) {
+            out += pad;
+            escape(out, (*o)[k].first);
+            out += ": ";
+            (*o)[k].second.dump_to(out, indent + 2);
+            out += k + 1 < o->size() ? ",\n" : "\n";
+        }
+        out += close_pad + "}";
+    }
+}
+
+std::string Json::dump() const
+{
+    std::string out;
+    dump_to(out, 0);
+    out += '\n';
+    return out;
+}
+
+}  // namespace crackle

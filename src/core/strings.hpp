@@ -1,0 +1,19 @@
+#pragma once
+/// @file String helpers for messages: "did you mean" suggestions.
+
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace crackle {
+
+/// Levenshtein distance.
+std::size_t edit_distance(std::string_view a, std::string_view b);
+
+/// The candidate closest to `word` if it is close enough to be a likely typo, else "".
+std::string closest_match(std::string_view word, const std::vector<std::string>& candidates);
+
+/// " (did you mean 'x'?)" or "".
+std::string did_you_mean(std::string_view word, const std::vector<std::string>& candidates);
+
+}  // namespace crackle

@@ -1,0 +1,68 @@
+#pragma once
+/// @file Presets: TOML files (toml++) checked against the schema, resolved through
+/// `extends`, defaults and `--set` overrides before any work starts.
+
+#include <cstdint>
+#include <filesystem>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "io/preset_schema.hpp"
+
+namespace crackle::io {
+
+/// Where a value came from: "presets/bark.toml:12", "--set", or "default".
+struct SourceLocation {
+    std::string file;  ///< file name as given, "--set", or "" for the default
+    int line = 0;
+
+    std::string text() const;
+};
+
+struct PresetValue {
+    Value value;
+    SourceLocation source;
+    std::filesystem::path base_dir;  ///< folder that relative paths (images) resolve against
+};
+
+class Preset {
+public:
+    std::string name;  ///< as requested: "bark", "my/preset.toml"
+
+    double number(const std::string& key) const;
+    std::int64_t integer(const std::string& key) const;
+    bool flag(const std::string& key) const;
+    const std::string& text(const std::string& key) const;
+    const std::vector<double>& numbers(const std::string& key) const;
+    const PresetValue& entry(const std::string& key) const;
+    /// A path-valued key resolved against the folder of the preset that set it.
+    std::filesystem::path path(const std::string& key) const;
+
+    void set(const std::string& key, PresetValue value) { m_values[key] = std::move(value); }
+
+    /// The fully resolved preset as TOML, every key with its unit, range, description and
+    /// where its value came from.
+    std::string to_toml() const;
+
+private:
+    std::map<std::string, PresetValue> m_values;
+};
+
+/// A request to load a preset.
+struct PresetRequest {
+    std::string name_or_path;            ///< built-in name ("bark", "mud/thick") or a .toml path
+    std::vector<std::string> overrides;  ///< "section.key=value" (--set)
+    std::int64_t seed = -1;              ///< --seed; < 0 keeps simulation.seed
+};
+
+/// Loads, inherits, checks and completes a preset. Throws InputError with
+/// "<file>:<line>: <what> (<how to fix>)" on any problem.
+Preset load_preset(const PresetRequest& request);
+
+/// Built-in preset names (embedded presets/ folder), sorted.
+std::vector<std::string> builtin_preset_names();
+/// First comment line of a built-in preset (its one-line summary), or "".
+std::string builtin_preset_summary(const std::string& name);
+
+}  // namespace crackle::io

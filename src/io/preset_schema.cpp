@@ -1,0 +1,350 @@
+#include "io/preset_schema.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+namespace crackle::io {
+namespace {
+
+KeySpec number(std::string section, std::string key, double def, std::string unit, double lo, double hi,
+               std::string description, bool lo_excl = false, bool hi_excl = false)
+{
+    KeySpec s;
+    s.section = std::move(section);
+    s.key = std::move(key);
+    s.type = ValueType::Float;
+    s.default_value = def;
+    s.unit = std::move(unit);
+    s.min = lo;
+    s.max = hi;
+    s.min_exclusive = lo_excl;
+    s.max_exclusive = hi_excl;
+    s.description = std::move(description);
+    return s;
+}
+
+KeySpec integer(std::string section, std::string key, std::int64_t def, std::string unit, double lo, double hi,
+                std::string description)
+{
+    KeySpec s = number(std::move(section), std::move(key), 0, std::move(unit), lo, hi, std::move(description));
+    s.type = ValueType::Int;
+    s.default_value = def;
+    return s;
+}
+
+KeySpec choice(std::string section, std::string key, std::string def, std::vector<std::string> choices,
+               std::string description)
+{
+    KeySpec s;
+    s.section = std::move(section);
+    s.key = std::move(key);
+    s.type = ValueType::Enum;
+    s.default_value = std::move(def);
+    s.choices = std::move(choices);
+    s.description = std::move(description);
+    return s;
+}
+
+KeySpec array(std::string section, std::string key, std::vector<double> def, int min_len, int max_len,
+              std::string unit, double lo, double hi, std::string description, bool lo_excl = false)
+{
+    KeySpec s = number(std::move(section), std::move(key), 0, std::move(unit), lo, hi, std::move(description), lo_excl);
+    s.type = ValueType::FloatArray;
+    s.default_value = std::move(def);
+    s.min_length = min_len;
+    s.max_length = max_len;
+    return s;
+}
+
+KeySpec text(std::string section, std::string key, std::string def, std::string description)
+{
+    KeySpec s;
+    s.section = std::move(section);
+    s.key = std::move(key);
+    s.type = ValueType::String;
+    s.default_value = std::move(def);
+    s.description = std::move(description);
+    return s;
+}
+
+/// The properties that may vary over the surface (§5.9), each with a [variation.*] section.
+const char* const VARYING[] = {"thickness", "young_modulus", "threshold_stress", "toughness"};
+
+std::vector<KeySpec> build_schema()
+{
+    std::vector<KeySpec> s;
+    // === [surface]
+    s.push_back(choice("surface", "kind", "cylinder", {"plane", "cylinder", "sphere"},
+                       "Shape of the background: a plane or a tree trunk (both tile seamlessly), or a closed sphere."));
+    s.push_back(array("surface", "size", {0.5, 0.5}, 1, 2, "m", 0.0, 1000.0,
+                      "plane: [width, height]; cylinder: [circumference, height]; sphere: [radius]. "
+                      "The texture covers this area, so cracks look finer on a larger surface.",
+                      true));
+    // === [growth]
+    s.push_back(choice("growth", "kind", "anisotropic", {"isogonic", "anisotropic", "none"},
+                       "Background growth (§3.3.1): isogonic = the same rate in every direction (isotropic "
+                       "networks); anisotropic = rates r1, r2 (cracks run perpendicular to r1); none = static "
+                       "background (mud)."));
+    s.push_back(array("growth", "rate", {1.0, 0.0}, 2, 2, "1/time", -10.0, 100.0,
+                      "Principal rates [r1, r2]; a rate of 1 doubles a length at t = 1. Isogonic uses r1 only. "
+                      "A trunk grows r1 around and r2 = 0 along its axis."));
+    s.push_back(number("growth", "angle_deg", 0.0, "deg", -360.0, 360.0,
+                       "Direction of r1, degrees from the u axis. Plane: any angle; cylinder and sphere: 0 (r1 "
+                       "around the axis) or 90 (r1 along it)."));
+    // === [material]
+    s.push_back(number("material", "young_modulus", 1.0e10, "Pa", 0.0, 1.0e13,
+                       "Stiffness E of the material layer. Scales all stresses; with the threshold it sets how "
+                       "much stretch the layer takes before it cracks.",
+                       true));
+    s.push_back(number("material", "poisson_ratio", 0.3, "", -0.99, 0.5,
+                       "Poisson's ratio ν (must stay below 0.5, the incompressible limit).", false, true));
+    s.push_back(number("material", "threshold_stress", 2.0e5, "Pa", 0.0, 1.0e12,
+                       "Tensile stress at which the layer cracks. Lower = cracks start earlier and the network "
+                       "is denser.",
+                       true));
+    s.push_back(number("material", "toughness", 200.0, "", 0.0, 1.0e12,
+                       "Fracture toughness K_IC of the Griffith test (G_IC = (1 − ν²)K_IC²/E, thesis Alg. 11; "
+                       "a calibration knob, see docs). Higher = cracks stop sooner: shorter, more separate "
+                       "fissures.",
+                       true));
+    s.push_back(array("material", "thickness", {0.01, 0.01}, 2, 2, "m", 0.0, 100.0,
+                      "Layer thickness [start, end], linear along v (the trunk's axis). Thicker layers give "
+                      "fewer, wider cracks and larger plates (Fig. 5.29).",
+                      true));
+    s.push_back(array("material", "shrinkage", {0.0, 0.0}, 2, 2, "1/time", -10.0, 10.0,
+                      "Shrinkage rates [top, bottom] of the layer (§3.3.2), s(t) = rate·t; negative = expansion. "
+                      "Drying mud shrinks faster at the top."));
+    // === [variation.*]
+    for (const char* prop : VARYING) {
+        const std::string sec = std::string("variation.") + prop;
+        s.push_back(choice(sec, "pattern", "none", {"none", "gradient", "noise", "image"},
+                           std::string("How ") + prop
+                               + " varies over the surface (§5.9): p = p0·(1 + amplitude·(2g − 1)) with g from a "
+                                 "linear gradient, seeded smooth noise, or a grayscale PNG (white = high)."));
+        s.push_back(number(sec, "amplitude", 0.3, "", 0.0, 0.95,
+                           "Relative variation: values span p0·(1 − amplitude) … p0·(1 + amplitude)."));
+        s.push_back(number(sec, "scale", 0.05, "m", 0.0, 1000.0,
+                           "Noise feature size. Features of this size make cracks wander and cluster.", true));
+        s.push_back(integer(sec, "octaves", 3, "", 1, 8, "Noise octaves, each half the size and strength of the last."));
+        s.push_back(number(sec, "angle_deg", 0.0, "deg", -360.0, 360.0,
+                           "Gradient direction in texture space, degrees from u (90 = along v). Gradients do not tile."));
+        s.push_back(text(sec, "image", "",
+                         "Grayscale PNG mapped over texture space (relative to the preset file). Needs pattern = "
+                         "\"image\"."));
+    }
+    // === [simulation]
+    s.push_back(choice("simulation", "method", "fem-split", {"mass-spring", "fem-remove", "fem-split", "graph-fem"},
+                       "Fracture model: mass-spring (fast baseline, lattice-biased), fem-remove (element removal), "
+                       "fem-split (element splitting, the quality default), graph-fem (remeshing-free)."));
+    s.push_back(integer("simulation", "elements", 8000, "", 32, 2.0e6,
+                        "Target triangle count of the starting mesh. More = finer crack detail and slower."));
+    s.push_back(choice("simulation", "lattice", "random", {"random", "regular"},
+                       "mass-spring only: random (Voronoi cells) or regular (hexagonal cells, 60° cracks)."));
+    s.push_back(number("simulation", "duration", 1.0, "time", 0.0, 1000.0,
+                       "Simulated time. Growth and shrinkage rates are per unit of it; longer = more, wider cracks.",
+                       true));
+    s.push_back(integer("simulation", "seed", 1, "", 0, 9.0e18,
+                        "Seed of every random choice (points, noise, tie breaks). Same preset + seed = same output."));
+    s.push_back(number("simulation", "jitter", 0.25, "", 0.0, 0.5,
+                       "Random perturbation δ of the repulsion radii (§5.2.1). 0 tends to a hexagonal lattice; "
+                       "0.2–0.3 gives semi-random triangles."));
+    s.push_back(integer("simulation", "repulsion_iterations", 60, "", 0, 1000,
+                        "Particle-repulsion iterations at most (0 = uniformly random points, poor triangles)."));
+    s.push_back(choice("simulation", "density", "uniform", {"uniform", "thickness"},
+                       "Element density: uniform, or thickness = element size proportional to the local layer "
+                       "thickness (fine elements where cracks are dense)."));
+    // === [post]
+    s.push_back(number("post", "curl", 0.0, "", 0.0, 10.0,
+                       "0 = pieces stay glued to the background; > 0 = cracked pieces peel and their rims curl "
+                       "up (Fig. 4.11)."));
+    // === [bake]
+    s.push_back(integer("bake", "size", 2048, "px", 16, 16384, "Texture size in pixels per side."));
+    return s;
+}
+
+}  // namespace
+
+const std::vector<KeySpec>& preset_schema()
+{
+    static const std::vector<KeySpec> schema = build_schema();
+    return schema;
+}
+
+const KeySpec* find_key(const std::string& full_name)
+{
+    for (const KeySpec& k : preset_schema())
+        if (k.name() == full_name) return &k;
+    return nullptr;
+}
+
+const std::vector<std::pair<std::string, std::string>>& preset_sections()
+{
+    static const std::vector<std::pair<std::string, std::string>> sections = [] {
+        std::vector<std::pair<std::string, std::string>> v = {
+            {"surface", "The background surface and its size (thesis Ch. 3)."},
+            {"growth", "Background growth, a linear velocity field (§3.3.1)."},
+            {"material", "The cracking layer (§3.2, §5.3)."},
+        };
+        for (const char* prop : VARYING)
+            v.emplace_back(std::string("variation.") + prop,
+                           std::string("How the layer's ") + prop + " varies over the surface (§5.9).");
+        v.emplace_back("simulation", "Discretization and the fracture model (§5.2, Ch. 4–5).");
+        v.emplace_back("post", "Post-processing of the crack pattern into pieces (§4.5).");
+        v.emplace_back("bake", "Texture baking.");
+        return v;
+    }();
+    return sections;
+}
+
+namespace {
+std::string fmt_number(double x)
+{
+    char buf[32];
+    if (x != 0 && (std::abs(x) >= 1e6 || std::abs(x) < 1e-3))
+        std::snprintf(buf, sizeof buf, "%.6g", x);
+    else
+        std::snprintf(buf, sizeof buf, "%.10g", x);
+    std::string s = buf;
+    // Keep floats recognisable as floats in TOML.
+    if (s.find_first_of(".eEn") == std::string::npos) s += ".0";
+    return s;
+}
+}  // namespace
+
+std::string to_toml(const Value& value)
+{
+    if (const auto* d = std::get_if<double>(&value)) return fmt_number(*d);
+    if (const auto* i = std::get_if<std::int64_t>(&value)) return std::to_string(*i);
+    if (const auto* b = std::get_if<bool>(&value)) return *b ? "true" : "false";
+    if (const auto* s = std::get_if<std::string>(&value)) {
+        std::string out = "\"";
+        for (char c : *s) {
+            if (c == '"' || c == '\\') out += '\\';
+            out += c;
+        }
+        return out + "\"";
+    }
+    const auto& a = std::get<std::vector<double>>(value);
+    std::string out = "[";
+    for (std::size_t k = 0; k < a.size(); ++k) out += (k ? ", " : "") + fmt_number(a[k]);
+    return out + "]";
+}
+
+std::string range_text(const KeySpec& spec)
+{
+    switch (spec.type) {
+    case ValueType::Enum: {
+        std::string out;
+        for (std::size_t k = 0; k < spec.choices.size(); ++k) out += (k ? " | " : "") + spec.choices[k];
+        return out;
+    }
+    case ValueType::String: return "text";
+    case ValueType::Bool: return "true | false";
+    default: break;
+    }
+    auto bound = [&](double v) {
+        if (spec.type == ValueType::Int) {
+            char buf[32];
+            std::snprintf(buf, sizeof buf, "%.0f", v);
+            return std::string(buf);
+        }
+        char buf[32];
+        std::snprintf(buf, sizeof buf, "%g", v);
+        return std::string(buf);
+    };
+    std::string r = std::string(spec.min_exclusive ? "(" : "[") + bound(spec.min) + ", " + bound(spec.max)
+                    + (spec.max_exclusive ? ")" : "]");
+    if (spec.type == ValueType::FloatArray) {
+        const std::string len = spec.min_length == spec.max_length
+                                    ? std::to_string(spec.min_length)
+                                    : std::to_string(spec.min_length) + "–" + std::to_string(spec.max_length);
+        r = len + " × " + r;
+    }
+    return r;
+}
+
+std::string check_value(const KeySpec& spec, const Value& value)
+{
+    auto in_range = [&](double x) {
+        if (!std::isfinite(x)) return false;
+        if (spec.min_exclusive ? x <= spec.min : x < spec.min) return false;
+        if (spec.max_exclusive ? x >= spec.max : x > spec.max) return false;
+        return true;
+    };
+    std::ostringstream os;
+    switch (spec.type) {
+    case ValueType::Float:
+        if (!in_range(std::get<double>(value))) os << "must be in " << range_text(spec);
+        break;
+    case ValueType::Int:
+        if (!in_range(static_cast<double>(std::get<std::int64_t>(value)))) os << "must be in " << range_text(spec);
+        break;
+    case ValueType::Enum: {
+        const auto& s = std::get<std::string>(value);
+        bool found = false;
+        for (const auto& c : spec.choices) found = found || c == s;
+        if (!found) os << "must be one of " << range_text(spec);
+        break;
+    }
+    case ValueType::FloatArray: {
+        const auto& a = std::get<std::vector<double>>(value);
+        const int n = static_cast<int>(a.size());
+        if (n < spec.min_length || n > spec.max_length) {
+            os << "must have " << (spec.min_length == spec.max_length ? std::to_string(spec.min_length)
+                                                                      : std::to_string(spec.min_length) + " to "
+                                                                            + std::to_string(spec.max_length))
+               << " elements, not " << n;
+            break;
+        }
+        for (double x : a)
+            if (!in_range(x)) {
+                os << "each element must be in " << range_text(spec).substr(range_text(spec).find("× ") + 3);
+                break;
+            }
+        break;
+    }
+    case ValueType::Bool:
+    case ValueType::String: break;
+    }
+    return os.str();
+}
+
+std::string schema_markdown()
+{
+    std::ostringstream md;
+    md << "# Preset reference\n\n"
+       << "Generated by `crackle presets doc` from the schema in `src/io/preset_schema.cpp`; do not edit by hand.\n"
+       << "A test checks that this file matches the schema.\n\n"
+       << "Presets are TOML files. `extends = \"NAME\"` at the top inherits every key of another preset\n"
+       << "(a built-in name such as `bark`, or a path relative to this file, without `.toml`);\n"
+       << "keys set here override it. Unset keys take the defaults below. On the command line,\n"
+       << "`--set section.key=value` overrides any key with the same type checks, and `--seed N` sets\n"
+       << "`simulation.seed`. Unknown keys, wrong types and out-of-range values are errors (exit code 2)\n"
+       << "naming the file and line.\n\n"
+       << "`crackle presets show NAME` prints a preset fully resolved, defaults included.\n";
+    for (const auto& [section, about] : preset_sections()) {
+        md << "\n## [" << section << "]\n\n" << about << "\n\n";
+        md << "| key | type | default | unit | range | description |\n|---|---|---|---|---|---|\n";
+        for (const KeySpec& k : preset_schema()) {
+            if (k.section != section) continue;
+            const char* type = "";
+            switch (k.type) {
+            case ValueType::Float: type = "float"; break;
+            case ValueType::Int: type = "integer"; break;
+            case ValueType::Bool: type = "bool"; break;
+            case ValueType::String: type = "string"; break;
+            case ValueType::Enum: type = "choice"; break;
+            case ValueType::FloatArray: type = "float array"; break;
+            }
+            std::string range = range_text(k);
+            for (std::size_t p = range.find('|'); p != std::string::npos; p = range.find('|', p + 2))
+                range.replace(p, 1, "\\|");
+            md << "| `" << k.key << "` | " << type << " | `" << to_toml(k.default_value) << "` | " << k.unit << " | "
+               << range << " | " << k.description << " |\n";
+        }
+    }
+    return md.str();
+}
+
+}  // namespace crackle::io
