@@ -149,7 +149,7 @@ std::vector<KeySpec> build_schema()
     s.push_back(number("simulation", "jitter", 0.25, "", 0.0, 0.5,
                        "Random perturbation δ of the repulsion radii (§5.2.1). 0 tends to a hexagonal lattice; "
                        "0.2–0.3 gives semi-random triangles."));
-    s.push_back(integer("simulation", "repulsion_iterations", 60, "", 0, 1000,
+    s.push_back(integer("simulation", "repulsion_iterations", 100, "", 0, 1000,
                         "Particle-repulsion iterations at most (0 = uniformly random points, poor triangles)."));
     s.push_back(choice("simulation", "density", "uniform", {"uniform", "thickness"},
                        "Element density: uniform, or thickness = element size proportional to the local layer "

@@ -1,6 +1,7 @@
 #include "mesh/sampling.hpp"
 
 #include "core/error.hpp"
+#include "core/log.hpp"
 #include "core/progress.hpp"
 
 #include <algorithm>
@@ -20,9 +21,10 @@ namespace {
 inline double repulsion(double d2, double rsum) { return 1.0 - d2 / sqr(rsum); }
 
 /// Movement per iteration: a point moves STEP·r_i along its summed unit forces, at most
-/// MAX_MOVE·r_i, so two deeply overlapping points separate in a few iterations without
-/// overshooting.
-constexpr double STEP = 0.5;
+/// MAX_MOVE·r_i. Measured on 10k points (crackle -vv mesh): STEP = 0.5 separates overlaps
+/// fastest but leaves jammed points oscillating at 0.3–0.5 r̄ indefinitely; 0.25 settles
+/// monotonically (max move 0.03 r̄ after ~60 iterations) with equally good triangles.
+constexpr double STEP = 0.25;
 constexpr double MAX_MOVE = 0.5;
 
 std::vector<double> perturbation_factors(std::size_t n, double jitter, Rng& rng)
@@ -165,7 +167,11 @@ std::vector<Vec2> sample_periodic(const Vec2& period, const SamplingOptions& opt
             max_move = std::max(max_move, move[i].norm());
         }
         progress.update(it + 1);
-        if (max_move < options.tolerance * r_bar) break;
+        if (max_move < options.tolerance * r_bar || it + 1 == options.max_iterations) {
+            log::debug("repulsion: ", n, " points, ", it + 1, " iterations, last max move ", max_move / r_bar,
+                       " r̄");
+            break;
+        }
     }
     return pts;
 }
@@ -258,10 +264,10 @@ std::vector<Vec3> sample_sphere(double radius_sphere, const SamplingOptions& opt
         const Vec3 p = random_on_sphere();
         if (!spacing || rng.uniform() < sqr(s_min / local_scale(p))) pts.push_back(p);
     }
-    const std::vector<double> rho = perturbation_factors(n, options.jitter, rng);
+    std::vector<double> rho = perturbation_factors(n, options.jitter, rng);
 
-    std::vector<double> radius(n);
-    std::vector<Vec3> move(n);
+    std::vector<double> radius(n), sorted_rho(n), sorted_radius(n);
+    std::vector<Vec3> move(n), sorted_pts(n);
     std::vector<std::uint64_t> key(n), sorted_keys(n);
     std::vector<std::uint32_t> order(n);
     CellTable table;
@@ -285,7 +291,17 @@ std::vector<Vec3> sample_sphere(double radius_sphere, const SamplingOptions& opt
         std::iota(order.begin(), order.end(), 0u);
         std::sort(order.begin(), order.end(),
                   [&](std::uint32_t a, std::uint32_t b) { return key[a] != key[b] ? key[a] < key[b] : a < b; });
-        for (std::size_t k = 0; k < n; ++k) sorted_keys[k] = key[order[k]];
+        // Store the points in cell order, so neighbours sit close in memory.
+        for (std::size_t k = 0; k < n; ++k) {
+            sorted_keys[k] = key[order[k]];
+            sorted_pts[k] = pts[order[k]];
+            sorted_rho[k] = rho[order[k]];
+            sorted_radius[k] = radius[order[k]];
+        }
+        pts.swap(sorted_pts);
+        rho.swap(sorted_rho);
+        radius.swap(sorted_radius);
+        std::iota(order.begin(), order.end(), 0u);
         table.build(sorted_keys);
 
 #pragma omp parallel for schedule(static)
@@ -323,7 +339,11 @@ std::vector<Vec3> sample_sphere(double radius_sphere, const SamplingOptions& opt
             max_move = std::max(max_move, move[i].norm());
         }
         progress.update(it + 1);
-        if (max_move < options.tolerance * r_bar) break;
+        if (max_move < options.tolerance * r_bar || it + 1 == options.max_iterations) {
+            log::debug("repulsion on the sphere: ", n, " points, ", it + 1, " iterations, last max move ",
+                       max_move / r_bar, " r̄");
+            break;
+        }
     }
     return pts;
 }

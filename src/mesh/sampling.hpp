@@ -17,9 +17,9 @@ struct SamplingOptions {
     /// δ of the radius perturbation r_i = r̄·(1 + δ·U[−1, 1]) (digest §3.2 [I]: 0.2–0.3).
     /// Without it the points settle into a hexagonal lattice.
     double jitter = 0.25;
-    int max_iterations = 60;  ///< repulsion iterations at most
+    int max_iterations = 100;  ///< repulsion iterations at most
     /// Stop when no point moves more than tolerance·r̄ in one iteration.
-    double tolerance = 2e-3;
+    double tolerance = 0.03;
 };
 
 /// Local spacing scale s > 0 relative to the mean spacing; point density ∝ 1/s².
