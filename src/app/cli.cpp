@@ -15,8 +15,7 @@ namespace crackle::app {
 
 namespace {
 
-void add_preset_options(CLI::App* cmd, io::PresetRequest& request)
-{
+void add_preset_options(CLI::App* cmd, io::PresetRequest& request) {
     cmd->add_option("--set", request.overrides,
                     "Override a preset key, e.g. --set material.thickness=[0.02,0.02] (repeatable)")
         ->type_name("KEY=VALUE")
@@ -25,10 +24,9 @@ void add_preset_options(CLI::App* cmd, io::PresetRequest& request)
         ->check(CLI::NonNegativeNumber);
 }
 
-}  // namespace
+} // namespace
 
-int run(int argc, const char* const* argv, std::ostream& out, std::ostream& err)
-{
+int run(int argc, const char* const* argv, std::ostream& out, std::ostream& err) {
     CLI::App app{"crackle: grows surfaces, cracks them with fracture mechanics, and bakes the cracks into "
                  "texture maps and meshes.",
                  "crackle"};
@@ -76,9 +74,10 @@ int run(int argc, const char* const* argv, std::ostream& out, std::ostream& err)
     }
 
     log::set_stream(&err);
-    log::set_level(quiet ? log::Level::Error : verbosity >= 2 ? log::Level::Debug
-                                           : verbosity == 1   ? log::Level::Info
-                                                              : log::Level::Warn);
+    log::set_level(quiet            ? log::Level::Error
+                   : verbosity >= 2 ? log::Level::Debug
+                   : verbosity == 1 ? log::Level::Info
+                                    : log::Level::Warn);
     set_progress_enabled(!quiet);
     const GlobalOptions global{quiet};
 
@@ -106,4 +105,4 @@ int run(int argc, const char* const* argv, std::ostream& out, std::ostream& err)
     return code;
 }
 
-}  // namespace crackle::app
+} // namespace crackle::app

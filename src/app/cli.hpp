@@ -9,4 +9,4 @@ namespace crackle::app {
 /// input, 3 numeric failure, 1 anything else. Messages go to `err`, results to `out`.
 int run(int argc, const char* const* argv, std::ostream& out, std::ostream& err);
 
-}  // namespace crackle::app
+} // namespace crackle::app

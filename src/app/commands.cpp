@@ -14,36 +14,31 @@
 
 namespace crackle::app {
 
-int presets_list(std::ostream& out)
-{
+int presets_list(std::ostream& out) {
     for (const std::string& name : io::builtin_preset_names())
         out << std::left << std::setw(24) << name << io::builtin_preset_summary(name) << "\n";
     return 0;
 }
 
-int presets_show(const io::PresetRequest& request, std::ostream& out)
-{
+int presets_show(const io::PresetRequest& request, std::ostream& out) {
     out << io::load_preset(request).to_toml();
     return 0;
 }
 
-int presets_doc(std::ostream& out)
-{
+int presets_doc(std::ostream& out) {
     out << io::schema_markdown();
     return 0;
 }
 
 namespace {
-std::string fmt(const char* format, double v)
-{
+std::string fmt(const char* format, double v) {
     char buf[64];
     std::snprintf(buf, sizeof buf, format, v);
     return buf;
 }
-}  // namespace
+} // namespace
 
-int mesh_command(const MeshArgs& args, const GlobalOptions& global, std::ostream& out)
-{
+int mesh_command(const MeshArgs& args, const GlobalOptions& global, std::ostream& out) {
     Timer total;
     StepTimes times;
     Timer step;
@@ -95,7 +90,8 @@ int mesh_command(const MeshArgs& args, const GlobalOptions& global, std::ostream
     thick["max"] = *tmax;
     report["thickness_m"] = thick;
     Json wall = Json::object();
-    for (const auto& [name, seconds] : times) wall[name] = seconds;
+    for (const auto& [name, seconds] : times)
+        wall[name] = seconds;
     report["wall_seconds"] = wall;
     report["peak_memory_mb"] = peak_memory_mb();
     if (!args.json_path.empty()) output.write(args.json_path, report.dump());
@@ -108,17 +104,18 @@ int mesh_command(const MeshArgs& args, const GlobalOptions& global, std::ostream
             << " wedge nodes\n";
         out << "  faces        " << surface_mesh.num_faces() << " triangles (" << surface_mesh.num_edges()
             << " edges)\n";
-        out << "  min angle    " << fmt("%.2f", q.min_angle_deg) << " deg worst, "
-            << fmt("%.2f", q.mean_min_angle_deg) << " deg mean of each triangle's smallest\n";
+        out << "  min angle    " << fmt("%.2f", q.min_angle_deg) << " deg worst, " << fmt("%.2f", q.mean_min_angle_deg)
+            << " deg mean of each triangle's smallest\n";
         out << "  below 10 deg " << fmt("%.3f", 100.0 * q.fraction_below_10deg) << " % of triangles\n";
         out << "  edge length  min " << fmt("%.4g", q.edge_min) << ", mean " << fmt("%.4g", q.edge_mean) << ", max "
             << fmt("%.4g", q.edge_max) << ", std " << fmt("%.3g", q.edge_std) << " m\n";
         out << "  thickness    " << fmt("%.4g", *tmin) << " .. " << fmt("%.4g", *tmax) << " m\n";
         out << "  wall time   ";
-        for (const auto& [name, seconds] : times) out << " " << name << " " << fmt("%.3f", seconds) << " s;";
+        for (const auto& [name, seconds] : times)
+            out << " " << name << " " << fmt("%.3f", seconds) << " s;";
         out << "\n  peak memory  " << fmt("%.1f", peak_memory_mb()) << " MiB\n";
     }
     return 0;
 }
 
-}  // namespace crackle::app
+} // namespace crackle::app

@@ -1,11 +1,11 @@
 #pragma once
 /// @file The subcommands, free of CLI parsing (cli.cpp maps arguments onto these).
 
+#include "io/preset.hpp"
+
 #include <optional>
 #include <ostream>
 #include <string>
-
-#include "io/preset.hpp"
 
 namespace crackle::app {
 
@@ -20,11 +20,11 @@ int presets_doc(std::ostream& out);
 
 struct MeshArgs {
     io::PresetRequest preset;
-    std::string obj_path;   ///< "" = no OBJ
-    std::string json_path;  ///< "" = no report file
+    std::string obj_path;  ///< "" = no OBJ
+    std::string json_path; ///< "" = no report file
 };
 
 /// `crackle mesh`: discretize the preset's surface and report mesh figures.
 int mesh_command(const MeshArgs& args, const GlobalOptions& global, std::ostream& out);
 
-}  // namespace crackle::app
+} // namespace crackle::app

@@ -5,11 +5,10 @@
 
 namespace crackle::app {
 
-mesh::SurfaceOptions surface_options(const io::Preset& preset)
-{
+mesh::SurfaceOptions surface_options(const io::Preset& preset) {
     mesh::SurfaceOptions o;
     const std::string kind = preset.text("surface.kind");
-    o.kind = kind == "plane" ? mesh::SurfaceKind::Plane
+    o.kind = kind == "plane"    ? mesh::SurfaceKind::Plane
              : kind == "sphere" ? mesh::SurfaceKind::Sphere
                                 : mesh::SurfaceKind::Cylinder;
     const auto& size = preset.numbers("surface.size");
@@ -17,11 +16,10 @@ mesh::SurfaceOptions surface_options(const io::Preset& preset)
     return o;
 }
 
-sim::GrowthOptions growth_options(const io::Preset& preset)
-{
+sim::GrowthOptions growth_options(const io::Preset& preset) {
     sim::GrowthOptions o;
     const std::string kind = preset.text("growth.kind");
-    o.kind = kind == "none" ? sim::GrowthKind::None
+    o.kind = kind == "none"       ? sim::GrowthKind::None
              : kind == "isogonic" ? sim::GrowthKind::Isogonic
                                   : sim::GrowthKind::Anisotropic;
     const auto& rate = preset.numbers("growth.rate");
@@ -31,8 +29,7 @@ sim::GrowthOptions growth_options(const io::Preset& preset)
     return o;
 }
 
-sim::VariationOptions variation_options(const io::Preset& preset, const std::string& property)
-{
+sim::VariationOptions variation_options(const io::Preset& preset, const std::string& property) {
     const std::string sec = "variation." + property + ".";
     sim::VariationOptions o;
     const std::string pattern = preset.text(sec + "pattern");
@@ -54,8 +51,7 @@ sim::VariationOptions variation_options(const io::Preset& preset, const std::str
     return o;
 }
 
-std::unique_ptr<Scene> make_scene(const io::Preset& preset)
-{
+std::unique_ptr<Scene> make_scene(const io::Preset& preset) {
     const mesh::Surface surface(surface_options(preset));
     const auto seed = static_cast<std::uint64_t>(preset.integer("simulation.seed"));
     const auto& thickness = preset.numbers("material.thickness");
@@ -66,8 +62,8 @@ std::unique_ptr<Scene> make_scene(const io::Preset& preset)
         sim::GrowthField(growth_options(preset), surface.kind()),
         sim::ShrinkageOptions{shrink[0], shrink[1]},
         sim::PropertyField(thickness[0], thickness[1], variation_options(preset, "thickness"), surface, seed, 1),
-        sim::PropertyField(preset.number("material.young_modulus"), variation_options(preset, "young_modulus"),
-                           surface, seed, 2),
+        sim::PropertyField(preset.number("material.young_modulus"), variation_options(preset, "young_modulus"), surface,
+                           seed, 2),
         sim::PropertyField(preset.number("material.threshold_stress"), variation_options(preset, "threshold_stress"),
                            surface, seed, 3),
         sim::PropertyField(preset.number("material.toughness"), variation_options(preset, "toughness"), surface, seed,
@@ -83,8 +79,7 @@ std::unique_ptr<Scene> make_scene(const io::Preset& preset)
     return scene;
 }
 
-mesh::SurfaceMesh discretize_scene(const Scene& scene, StepTimes* times)
-{
+mesh::SurfaceMesh discretize_scene(const Scene& scene, StepTimes* times) {
     Rng rng(scene.seed, RngStream::Sampling);
     mesh::SpacingOverUv spacing;
     if (scene.density_follows_thickness) {
@@ -97,7 +92,8 @@ mesh::SurfaceMesh discretize_scene(const Scene& scene, StepTimes* times)
                 p = scene.surface.radius()
                     * Vec3(std::sin(colat) * std::cos(lon), std::sin(colat) * std::sin(lon), std::cos(colat));
             } else {
-                p = scene.surface.position(Vec2(uv.x() * scene.surface.period().x(), uv.y() * scene.surface.period().y()));
+                p = scene.surface.position(
+                    Vec2(uv.x() * scene.surface.period().x(), uv.y() * scene.surface.period().y()));
             }
             return scene.thickness.at(p, uv) / reference;
         };
@@ -105,4 +101,4 @@ mesh::SurfaceMesh discretize_scene(const Scene& scene, StepTimes* times)
     return mesh::discretize(scene.surface, scene.discretize, spacing, rng, times);
 }
 
-}  // namespace crackle::app
+} // namespace crackle::app

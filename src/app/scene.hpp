@@ -2,14 +2,14 @@
 /// @file A preset turned into the pipeline's typed inputs: the surface, its growth field,
 /// material shrinkage and property fields, and the discretization options.
 
-#include <memory>
-
 #include "io/preset.hpp"
 #include "mesh/discretize.hpp"
 #include "mesh/surface.hpp"
 #include "sim/growth_field.hpp"
 #include "sim/property_field.hpp"
 #include "sim/reference_shape.hpp"
+
+#include <memory>
 
 namespace crackle::app {
 
@@ -38,4 +38,4 @@ std::unique_ptr<Scene> make_scene(const io::Preset& preset);
 /// Discretizes the scene's surface (§5.2), density following thickness when asked.
 mesh::SurfaceMesh discretize_scene(const Scene& scene, StepTimes* times);
 
-}  // namespace crackle::app
+} // namespace crackle::app

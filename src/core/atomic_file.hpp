@@ -27,7 +27,7 @@ public:
     void commit();
 
 private:
-    std::vector<std::pair<std::filesystem::path, std::filesystem::path>> m_pending;  // tmp, final
+    std::vector<std::pair<std::filesystem::path, std::filesystem::path>> m_pending; // tmp, final
 };
 
 /// Writes one file atomically.
@@ -36,4 +36,4 @@ void write_file_atomically(const std::filesystem::path& path, std::string_view b
 /// Reads a whole file; throws InputError naming the file when it cannot.
 std::string read_file(const std::filesystem::path& path, const std::string& what = "file");
 
-}  // namespace crackle
+} // namespace crackle

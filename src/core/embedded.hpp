@@ -7,14 +7,14 @@
 namespace crackle {
 
 struct EmbeddedFile {
-    std::string_view name;  ///< path relative to its folder, without extension ("bark/elm")
-    std::string_view path;  ///< path relative to its folder ("bark/elm.toml")
+    std::string_view name; ///< path relative to its folder, without extension ("bark/elm")
+    std::string_view path; ///< path relative to its folder ("bark/elm.toml")
     std::string_view text;
 };
 
 namespace embedded {
 /// presets/**/*.toml
 const std::vector<EmbeddedFile>& presets();
-}  // namespace embedded
+} // namespace embedded
 
-}  // namespace crackle
+} // namespace crackle

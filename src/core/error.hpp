@@ -30,16 +30,16 @@ public:
 
 [[noreturn]] void assertion_failed(const char* expr, const std::string& msg, const char* file, int line);
 
-}  // namespace crackle
+} // namespace crackle
 
 /// Stays on in release builds (geometry-central: GC_SAFETY_ASSERT).
-#define CRACKLE_ASSERT(cond, msg)                                                                \
-    do {                                                                                          \
-        if (!(cond)) {                                                                            \
-            std::ostringstream crackle_assert_os_;                                                \
-            crackle_assert_os_ << msg;                                                            \
-            ::crackle::assertion_failed(#cond, crackle_assert_os_.str(), __FILE__, __LINE__);     \
-        }                                                                                         \
+#define CRACKLE_ASSERT(cond, msg)                                                                                      \
+    do {                                                                                                               \
+        if (!(cond)) {                                                                                                 \
+            std::ostringstream crackle_assert_os_;                                                                     \
+            crackle_assert_os_ << msg;                                                                                 \
+            ::crackle::assertion_failed(#cond, crackle_assert_os_.str(), __FILE__, __LINE__);                          \
+        }                                                                                                              \
     } while (false)
 
 #ifndef NDEBUG

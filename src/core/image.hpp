@@ -1,10 +1,10 @@
 #pragma once
 /// @file Plain image buffers shared between stages (io reads/writes them, render fills them).
 
+#include "core/math.hpp"
+
 #include <cstdint>
 #include <vector>
-
-#include "core/math.hpp"
 
 namespace crackle {
 
@@ -13,17 +13,20 @@ namespace crackle {
 struct GrayImage {
     int width = 0;
     int height = 0;
-    std::vector<float> pixels;  ///< width·height values, usually in [0, 1]
+    std::vector<float> pixels; ///< width·height values, usually in [0, 1]
 
-    float at(int x, int y) const { return pixels[static_cast<size_t>(y) * static_cast<size_t>(width) + static_cast<size_t>(x)]; }
-    float& at(int x, int y) { return pixels[static_cast<size_t>(y) * static_cast<size_t>(width) + static_cast<size_t>(x)]; }
+    float at(int x, int y) const {
+        return pixels[static_cast<size_t>(y) * static_cast<size_t>(width) + static_cast<size_t>(x)];
+    }
+    float& at(int x, int y) {
+        return pixels[static_cast<size_t>(y) * static_cast<size_t>(width) + static_cast<size_t>(x)];
+    }
 
     /// Bilinear sample at texture coordinates (u, v) ∈ [0,1]², wrapping around both borders.
     double sample_wrapped(double u, double v) const;
 };
 
-inline double GrayImage::sample_wrapped(double u, double v) const
-{
+inline double GrayImage::sample_wrapped(double u, double v) const {
     const double x = wrap(u, 1.0) * width - 0.5;
     const double y = wrap(v, 1.0) * height - 0.5;
     const double fx = std::floor(x), fy = std::floor(y);
@@ -37,4 +40,4 @@ inline double GrayImage::sample_wrapped(double u, double v) const
            + tx * ty * px(fx + 1, fy + 1);
 }
 
-}  // namespace crackle
+} // namespace crackle

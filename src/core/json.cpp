@@ -7,8 +7,7 @@
 
 namespace crackle {
 
-Json& Json::operator[](const std::string& key)
-{
+Json& Json::operator[](const std::string& key) {
     if (std::holds_alternative<std::nullptr_t>(m_value)) m_value = Object{};
     auto& obj = std::get<Object>(m_value);
     for (auto& [k, v] : obj)
@@ -17,38 +16,44 @@ Json& Json::operator[](const std::string& key)
     return obj.back().second;
 }
 
-const Json* Json::find(const std::string& key) const
-{
+const Json* Json::find(const std::string& key) const {
     if (!is_object()) return nullptr;
     for (const auto& [k, v] : std::get<Object>(m_value))
         if (k == key) return &v;
     return nullptr;
 }
 
-void Json::push_back(Json v)
-{
+void Json::push_back(Json v) {
     if (std::holds_alternative<std::nullptr_t>(m_value)) m_value = Array{};
     std::get<Array>(m_value).push_back(std::move(v));
 }
 
-double Json::as_number() const
-{
+double Json::as_number() const {
     if (const auto* d = std::get_if<double>(&m_value)) return *d;
     if (const auto* i = std::get_if<std::int64_t>(&m_value)) return static_cast<double>(*i);
     CRACKLE_ASSERT(false, "JSON value is not a number");
 }
 
 namespace {
-void escape(std::string& out, const std::string& s)
-{
+void escape(std::string& out, const std::string& s) {
     out += '"';
     for (char c : s) {
         switch (c) {
-        case '"': out += "\\\""; break;
-        case '\\': out += "\\\\"; break;
-        case '\n': out += "\\n"; break;
-        case '\t': out += "\\t"; break;
-        case '\r': out += "\\r"; break;
+        case '"':
+            out += "\\\"";
+            break;
+        case '\\':
+            out += "\\\\";
+            break;
+        case '\n':
+            out += "\\n";
+            break;
+        case '\t':
+            out += "\\t";
+            break;
+        case '\r':
+            out += "\\r";
+            break;
         default:
             if (static_cast<unsigned char>(c) < 0x20) {
                 char buf[8];
@@ -61,10 +66,9 @@ void escape(std::string& out, const std::string& s)
     }
     out += '"';
 }
-}  // namespace
+} // namespace
 
-void Json::dump_to(std::string& out, int indent) const
-{
+void Json::dump_to(std::string& out, int indent) const {
     const std::string pad(static_cast<size_t>(indent + 2), ' ');
     const std::string close_pad(static_cast<size_t>(indent), ' ');
     if (std::holds_alternative<std::nullptr_t>(m_value)) {
@@ -112,12 +116,11 @@ void Json::dump_to(std::string& out, int indent) const
     }
 }
 
-std::string Json::dump() const
-{
+std::string Json::dump() const {
     std::string out;
     dump_to(out, 0);
     out += '\n';
     return out;
 }
 
-}  // namespace crackle
+} // namespace crackle

@@ -51,4 +51,4 @@ private:
     std::variant<std::nullptr_t, bool, std::int64_t, double, std::string, Array, Object> m_value;
 };
 
-}  // namespace crackle
+} // namespace crackle

@@ -9,27 +9,36 @@ namespace {
 std::atomic<Level> g_level{Level::Warn};
 std::ostream* g_stream = nullptr;
 std::mutex g_mutex;
-}  // namespace
+} // namespace
 
-void set_level(Level lvl) { g_level = lvl; }
-Level level() { return g_level; }
-void set_stream(std::ostream* os)
-{
+void set_level(Level lvl) {
+    g_level = lvl;
+}
+Level level() {
+    return g_level;
+}
+void set_stream(std::ostream* os) {
     std::lock_guard lock(g_mutex);
     g_stream = os;
 }
 
-void write(Level lvl, const std::string& message)
-{
+void write(Level lvl, const std::string& message) {
     std::lock_guard lock(g_mutex);
     std::ostream& os = g_stream ? *g_stream : std::cerr;
     switch (lvl) {
-    case Level::Error: os << "error: "; break;
-    case Level::Warn: os << "warning: "; break;
-    case Level::Info: break;
-    case Level::Debug: os << "debug: "; break;
+    case Level::Error:
+        os << "error: ";
+        break;
+    case Level::Warn:
+        os << "warning: ";
+        break;
+    case Level::Info:
+        break;
+    case Level::Debug:
+        os << "debug: ";
+        break;
     }
     os << message << '\n';
 }
 
-}  // namespace crackle::log
+} // namespace crackle::log

@@ -17,17 +17,24 @@ void set_stream(std::ostream* os);
 
 void write(Level level, const std::string& message);
 
-template <typename... Args> void emit(Level lvl, const Args&... args)
-{
+template <typename... Args> void emit(Level lvl, const Args&... args) {
     if (static_cast<int>(lvl) > static_cast<int>(level())) return;
     std::ostringstream os;
     (os << ... << args);
     write(lvl, os.str());
 }
 
-template <typename... Args> void error(const Args&... args) { emit(Level::Error, args...); }
-template <typename... Args> void warn(const Args&... args) { emit(Level::Warn, args...); }
-template <typename... Args> void info(const Args&... args) { emit(Level::Info, args...); }
-template <typename... Args> void debug(const Args&... args) { emit(Level::Debug, args...); }
+template <typename... Args> void error(const Args&... args) {
+    emit(Level::Error, args...);
+}
+template <typename... Args> void warn(const Args&... args) {
+    emit(Level::Warn, args...);
+}
+template <typename... Args> void info(const Args&... args) {
+    emit(Level::Info, args...);
+}
+template <typename... Args> void debug(const Args&... args) {
+    emit(Level::Debug, args...);
+}
 
-}  // namespace crackle::log
+} // namespace crackle::log

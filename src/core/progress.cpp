@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <atomic>
 #include <cstdio>
-
 #include <unistd.h>
 
 namespace crackle {
@@ -11,17 +10,18 @@ namespace {
 std::atomic<bool> g_enabled{true};
 }
 
-void set_progress_enabled(bool enabled) { g_enabled = enabled; }
-
-Progress::Progress(std::string label, double total)
-    : m_label(std::move(label)), m_total(total), m_active(g_enabled && ::isatty(STDERR_FILENO) == 1)
-{
+void set_progress_enabled(bool enabled) {
+    g_enabled = enabled;
 }
 
-Progress::~Progress() { finish(); }
+Progress::Progress(std::string label, double total)
+    : m_label(std::move(label)), m_total(total), m_active(g_enabled && ::isatty(STDERR_FILENO) == 1) {}
 
-void Progress::update(double done)
-{
+Progress::~Progress() {
+    finish();
+}
+
+void Progress::update(double done) {
     if (!m_active) return;
     const double t = m_timer.seconds();
     if (t < 1.0 || t - m_last_draw < 0.1) return;
@@ -29,8 +29,7 @@ void Progress::update(double done)
     draw(done);
 }
 
-void Progress::draw(double done)
-{
+void Progress::draw(double done) {
     constexpr int WIDTH = 30;
     const double fraction = m_total > 0 ? std::clamp(done / m_total, 0.0, 1.0) : 0.0;
     const int filled = static_cast<int>(fraction * WIDTH);
@@ -42,8 +41,7 @@ void Progress::draw(double done)
     m_drawn = true;
 }
 
-void Progress::finish()
-{
+void Progress::finish() {
     if (m_drawn) {
         draw(m_total);
         std::fprintf(stderr, "\n");
@@ -52,4 +50,4 @@ void Progress::finish()
     m_active = false;
 }
 
-}  // namespace crackle
+} // namespace crackle

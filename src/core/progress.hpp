@@ -2,9 +2,9 @@
 /// @file A progress bar on stderr for steps longer than about a second, only when stderr is
 /// a terminal and output is not quieted (CI logs and pipes stay clean).
 
-#include <string>
-
 #include "core/timer.hpp"
+
+#include <string>
 
 namespace crackle {
 
@@ -34,4 +34,4 @@ private:
     bool m_drawn = false;
 };
 
-}  // namespace crackle
+} // namespace crackle

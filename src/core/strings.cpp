@@ -5,8 +5,7 @@
 
 namespace crackle {
 
-std::size_t edit_distance(std::string_view a, std::string_view b)
-{
+std::size_t edit_distance(std::string_view a, std::string_view b) {
     std::vector<std::size_t> prev(b.size() + 1), cur(b.size() + 1);
     std::iota(prev.begin(), prev.end(), std::size_t{0});
     for (std::size_t i = 1; i <= a.size(); ++i) {
@@ -20,8 +19,7 @@ std::size_t edit_distance(std::string_view a, std::string_view b)
     return prev[b.size()];
 }
 
-std::string closest_match(std::string_view word, const std::vector<std::string>& candidates)
-{
+std::string closest_match(std::string_view word, const std::vector<std::string>& candidates) {
     std::string best;
     std::size_t best_distance = std::string::npos;
     for (const auto& c : candidates) {
@@ -36,10 +34,9 @@ std::string closest_match(std::string_view word, const std::vector<std::string>&
     return best_distance <= limit ? best : std::string();
 }
 
-std::string did_you_mean(std::string_view word, const std::vector<std::string>& candidates)
-{
+std::string did_you_mean(std::string_view word, const std::vector<std::string>& candidates) {
     const std::string m = closest_match(word, candidates);
     return m.empty() ? std::string() : " (did you mean '" + m + "'?)";
 }
 
-}  // namespace crackle
+} // namespace crackle

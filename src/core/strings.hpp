@@ -16,4 +16,4 @@ std::string closest_match(std::string_view word, const std::vector<std::string>&
 /// " (did you mean 'x'?)" or "".
 std::string did_you_mean(std::string_view word, const std::vector<std::string>& candidates);
 
-}  // namespace crackle
+} // namespace crackle

@@ -5,8 +5,7 @@
 
 namespace crackle {
 
-double peak_memory_mb()
-{
+double peak_memory_mb() {
     std::ifstream status("/proc/self/status");
     std::string line;
     while (std::getline(status, line)) {
@@ -20,4 +19,4 @@ double peak_memory_mb()
     return 0.0;
 }
 
-}  // namespace crackle
+} // namespace crackle

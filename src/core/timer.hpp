@@ -11,10 +11,7 @@ namespace crackle {
 class Timer {
 public:
     Timer() : m_start(std::chrono::steady_clock::now()) {}
-    double seconds() const
-    {
-        return std::chrono::duration<double>(std::chrono::steady_clock::now() - m_start).count();
-    }
+    double seconds() const { return std::chrono::duration<double>(std::chrono::steady_clock::now() - m_start).count(); }
     void reset() { m_start = std::chrono::steady_clock::now(); }
 
 private:
@@ -27,4 +24,4 @@ using StepTimes = std::vector<std::pair<std::string, double>>;
 /// Peak resident set size of this process in MiB (VmHWM from /proc/self/status; 0 if unknown).
 double peak_memory_mb();
 
-}  // namespace crackle
+} // namespace crackle

@@ -6,8 +6,7 @@
 
 namespace crackle::io {
 
-std::string surface_mesh_obj(const mesh::SurfaceMesh& m, const mesh::Surface& surface)
-{
+std::string surface_mesh_obj(const mesh::SurfaceMesh& m, const mesh::Surface& surface) {
     using mesh::face_id;
     std::string out = "# crackle surface mesh: " + std::to_string(m.num_vertices()) + " vertices, "
                       + std::to_string(m.num_faces()) + " faces\n";
@@ -48,4 +47,4 @@ std::string surface_mesh_obj(const mesh::SurfaceMesh& m, const mesh::Surface& su
     return out;
 }
 
-}  // namespace crackle::io
+} // namespace crackle::io

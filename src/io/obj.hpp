@@ -1,10 +1,10 @@
 #pragma once
 /// @file Wavefront OBJ of a surface mesh (debug output of `crackle mesh --obj`).
 
-#include <string>
-
 #include "mesh/surface.hpp"
 #include "mesh/surface_mesh.hpp"
+
+#include <string>
 
 namespace crackle::io {
 
@@ -13,4 +13,4 @@ namespace crackle::io {
 /// and its border faces stick out by one triangle.
 std::string surface_mesh_obj(const mesh::SurfaceMesh& mesh, const mesh::Surface& surface);
 
-}  // namespace crackle::io
+} // namespace crackle::io

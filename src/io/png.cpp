@@ -9,8 +9,7 @@
 
 namespace crackle::io {
 
-GrayImage read_png_gray(const std::filesystem::path& path)
-{
+GrayImage read_png_gray(const std::filesystem::path& path) {
     const std::string bytes = read_file(path, "image file");
     png_image img;
     std::memset(&img, 0, sizeof img);
@@ -28,13 +27,13 @@ GrayImage read_png_gray(const std::filesystem::path& path)
     out.width = static_cast<int>(img.width);
     out.height = static_cast<int>(img.height);
     out.pixels.resize(buffer.size());
-    for (std::size_t i = 0; i < buffer.size(); ++i) out.pixels[i] = static_cast<float>(buffer[i]) / 255.0f;
+    for (std::size_t i = 0; i < buffer.size(); ++i)
+        out.pixels[i] = static_cast<float>(buffer[i]) / 255.0f;
     return out;
 }
 
 namespace {
-std::vector<std::uint8_t> encode(png_image& img, const void* data)
-{
+std::vector<std::uint8_t> encode(png_image& img, const void* data) {
     png_alloc_size_t size = 0;
     if (!png_image_write_get_memory_size(img, size, 0, data, 0, nullptr))
         throw NumericError(std::string("PNG encoding failed: ") + img.message);
@@ -44,10 +43,9 @@ std::vector<std::uint8_t> encode(png_image& img, const void* data)
     out.resize(size);
     return out;
 }
-}  // namespace
+} // namespace
 
-std::vector<std::uint8_t> encode_png_gray(const GrayImage& image, int bits)
-{
+std::vector<std::uint8_t> encode_png_gray(const GrayImage& image, int bits) {
     CRACKLE_ASSERT(bits == 8 || bits == 16, "PNG bit depth must be 8 or 16");
     png_image img;
     std::memset(&img, 0, sizeof img);
@@ -69,10 +67,12 @@ std::vector<std::uint8_t> encode_png_gray(const GrayImage& image, int bits)
     return encode(img, px.data());
 }
 
-std::vector<std::uint8_t> encode_png_rgb8(int width, int height, int channels, const std::vector<std::uint8_t>& pixels)
-{
+std::vector<std::uint8_t> encode_png_rgb8(int width, int height, int channels,
+                                          const std::vector<std::uint8_t>& pixels) {
     CRACKLE_ASSERT(channels == 3 || channels == 4, "RGB PNG needs 3 or 4 channels");
-    CRACKLE_ASSERT(pixels.size() == static_cast<std::size_t>(width) * static_cast<std::size_t>(height) * static_cast<std::size_t>(channels),
+    CRACKLE_ASSERT(pixels.size()
+                       == static_cast<std::size_t>(width) * static_cast<std::size_t>(height)
+                              * static_cast<std::size_t>(channels),
                    "pixel buffer size does not match the image size");
     png_image img;
     std::memset(&img, 0, sizeof img);
@@ -83,8 +83,7 @@ std::vector<std::uint8_t> encode_png_rgb8(int width, int height, int channels, c
     return encode(img, pixels.data());
 }
 
-GrayImage decode_png_gray16(const std::vector<std::uint8_t>& bytes)
-{
+GrayImage decode_png_gray16(const std::vector<std::uint8_t>& bytes) {
     png_image img;
     std::memset(&img, 0, sizeof img);
     img.version = PNG_IMAGE_VERSION;
@@ -100,8 +99,9 @@ GrayImage decode_png_gray16(const std::vector<std::uint8_t>& bytes)
     out.width = static_cast<int>(img.width);
     out.height = static_cast<int>(img.height);
     out.pixels.resize(buffer.size());
-    for (std::size_t i = 0; i < buffer.size(); ++i) out.pixels[i] = static_cast<float>(buffer[i] / 65535.0);
+    for (std::size_t i = 0; i < buffer.size(); ++i)
+        out.pixels[i] = static_cast<float>(buffer[i] / 65535.0);
     return out;
 }
 
-}  // namespace crackle::io
+} // namespace crackle::io

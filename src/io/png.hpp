@@ -2,11 +2,11 @@
 /// @file PNG input and output (libpng's simplified API, which reports errors by return value
 /// rather than longjmp).
 
+#include "core/image.hpp"
+
 #include <cstdint>
 #include <filesystem>
 #include <vector>
-
-#include "core/image.hpp"
 
 namespace crackle::io {
 
@@ -23,4 +23,4 @@ std::vector<std::uint8_t> encode_png_rgb8(int width, int height, int channels, c
 /// Decodes a PNG from memory into 16-bit-precision grayscale in [0, 1] (for round-trip tests).
 GrayImage decode_png_gray16(const std::vector<std::uint8_t>& bytes);
 
-}  // namespace crackle::io
+} // namespace crackle::io

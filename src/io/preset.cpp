@@ -17,8 +17,7 @@ namespace crackle::io {
 
 namespace fs = std::filesystem;
 
-std::string SourceLocation::text() const
-{
+std::string SourceLocation::text() const {
     if (file.empty()) return "default";
     if (line <= 0) return file;
     return file + ":" + std::to_string(line);
@@ -26,32 +25,36 @@ std::string SourceLocation::text() const
 
 // === Typed access
 
-const PresetValue& Preset::entry(const std::string& key) const
-{
+const PresetValue& Preset::entry(const std::string& key) const {
     const auto it = m_values.find(key);
     CRACKLE_ASSERT(it != m_values.end(), "preset has no key '" << key << "' (not in the schema?)");
     return it->second;
 }
 
-double Preset::number(const std::string& key) const { return std::get<double>(entry(key).value); }
-std::int64_t Preset::integer(const std::string& key) const { return std::get<std::int64_t>(entry(key).value); }
-bool Preset::flag(const std::string& key) const { return std::get<bool>(entry(key).value); }
-const std::string& Preset::text(const std::string& key) const { return std::get<std::string>(entry(key).value); }
-const std::vector<double>& Preset::numbers(const std::string& key) const
-{
+double Preset::number(const std::string& key) const {
+    return std::get<double>(entry(key).value);
+}
+std::int64_t Preset::integer(const std::string& key) const {
+    return std::get<std::int64_t>(entry(key).value);
+}
+bool Preset::flag(const std::string& key) const {
+    return std::get<bool>(entry(key).value);
+}
+const std::string& Preset::text(const std::string& key) const {
+    return std::get<std::string>(entry(key).value);
+}
+const std::vector<double>& Preset::numbers(const std::string& key) const {
     return std::get<std::vector<double>>(entry(key).value);
 }
 
-fs::path Preset::path(const std::string& key) const
-{
+fs::path Preset::path(const std::string& key) const {
     const PresetValue& v = entry(key);
     const fs::path p = std::get<std::string>(v.value);
     if (p.empty() || p.is_absolute() || v.base_dir.empty()) return p;
     return v.base_dir / p;
 }
 
-std::string Preset::to_toml() const
-{
+std::string Preset::to_toml() const {
     std::ostringstream os;
     os << "# Preset '" << name << "', fully resolved: every key with its default, unit and range.\n"
        << "# Each value's origin is noted (default, a preset file:line, or --set).\n";
@@ -71,16 +74,15 @@ std::string Preset::to_toml() const
 
 // === Built-in presets
 
-std::vector<std::string> builtin_preset_names()
-{
+std::vector<std::string> builtin_preset_names() {
     std::vector<std::string> names;
-    for (const EmbeddedFile& f : embedded::presets()) names.emplace_back(f.name);
+    for (const EmbeddedFile& f : embedded::presets())
+        names.emplace_back(f.name);
     std::sort(names.begin(), names.end());
     return names;
 }
 
-std::string builtin_preset_summary(const std::string& name)
-{
+std::string builtin_preset_summary(const std::string& name) {
     for (const EmbeddedFile& f : embedded::presets()) {
         if (f.name != name) continue;
         std::istringstream is{std::string(f.text)};
@@ -97,23 +99,24 @@ namespace {
 
 /// A preset's text and where it came from.
 struct Source {
-    std::string display;  ///< name shown in messages: the path, or "builtin:bark.toml"
+    std::string display; ///< name shown in messages: the path, or "builtin:bark.toml"
     std::string text;
     fs::path dir;         ///< folder for relative paths (empty for built-ins)
     std::string identity; ///< for cycle detection
 };
 
-bool has_toml_extension(const std::string& s) { return s.size() > 5 && s.substr(s.size() - 5) == ".toml"; }
+bool has_toml_extension(const std::string& s) {
+    return s.size() > 5 && s.substr(s.size() - 5) == ".toml";
+}
 
 /// Finds a preset by name or path. For `extends`, relative names resolve first against
 /// the extending file's folder.
-Source find_source(const std::string& name, const fs::path& relative_to, const SourceLocation& requested_at)
-{
+Source find_source(const std::string& name, const fs::path& relative_to, const SourceLocation& requested_at) {
     std::vector<fs::path> candidates;
     const std::string file_name = has_toml_extension(name) ? name : name + ".toml";
     if (!relative_to.empty()) candidates.push_back(relative_to / file_name);
-    const bool looks_like_path = has_toml_extension(name) || name.find('/') != std::string::npos
-                                 || name.find('\\') != std::string::npos;
+    const bool looks_like_path =
+        has_toml_extension(name) || name.find('/') != std::string::npos || name.find('\\') != std::string::npos;
     // A path given on the command line resolves against the working directory.
     if (relative_to.empty() && looks_like_path) candidates.push_back(fs::path(file_name));
     for (const fs::path& c : candidates) {
@@ -139,49 +142,52 @@ Source find_source(const std::string& name, const fs::path& relative_to, const S
     }
     const std::vector<std::string> names = builtin_preset_names();
     std::string list;
-    for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
+    for (const auto& n : names)
+        list += (list.empty() ? "" : ", ") + n;
     throw InputError(requested_at.file.empty() ? std::string("preset") : requested_at.text(),
                      "preset '" + name + "' not found" + did_you_mean(builtin, names),
                      "built-in presets: " + list + "; or give the path of a .toml file");
 }
 
-std::vector<std::string> all_key_names()
-{
+std::vector<std::string> all_key_names() {
     std::vector<std::string> names;
-    for (const KeySpec& k : preset_schema()) names.push_back(k.name());
+    for (const KeySpec& k : preset_schema())
+        names.push_back(k.name());
     return names;
 }
 
-bool is_section(const std::string& name)
-{
+bool is_section(const std::string& name) {
     for (const auto& [s, about] : preset_sections())
         if (s == name || s.rfind(name + ".", 0) == 0) return true;
     return false;
 }
 
-std::string type_name(const toml::node& node)
-{
+std::string type_name(const toml::node& node) {
     std::ostringstream os;
     os << node.type();
     return os.str();
 }
 
-std::string example_of(const KeySpec& spec)
-{
+std::string example_of(const KeySpec& spec) {
     switch (spec.type) {
-    case ValueType::Float: return "a number such as " + to_toml(spec.default_value);
-    case ValueType::Int: return "a whole number such as " + to_toml(spec.default_value);
-    case ValueType::Bool: return "true or false";
-    case ValueType::String: return "a quoted string";
-    case ValueType::Enum: return "one of " + range_text(spec) + " in quotes";
-    case ValueType::FloatArray: return "an array of numbers such as " + to_toml(spec.default_value);
+    case ValueType::Float:
+        return "a number such as " + to_toml(spec.default_value);
+    case ValueType::Int:
+        return "a whole number such as " + to_toml(spec.default_value);
+    case ValueType::Bool:
+        return "true or false";
+    case ValueType::String:
+        return "a quoted string";
+    case ValueType::Enum:
+        return "one of " + range_text(spec) + " in quotes";
+    case ValueType::FloatArray:
+        return "an array of numbers such as " + to_toml(spec.default_value);
     }
     return "";
 }
 
 /// Converts a TOML node to the spec's type; throws InputError at `where` on a mismatch.
-Value convert(const KeySpec& spec, const toml::node& node, const std::string& where)
-{
+Value convert(const KeySpec& spec, const toml::node& node, const std::string& where) {
     auto mismatch = [&]() -> InputError {
         return InputError(where, spec.name() + " must be " + example_of(spec) + ", not a " + type_name(node),
                           "write " + example_of(spec));
@@ -226,8 +232,7 @@ Value convert(const KeySpec& spec, const toml::node& node, const std::string& wh
 }
 
 /// Checks range/choices; throws InputError naming the value and how to fix it.
-void check(const KeySpec& spec, const Value& value, const std::string& where)
-{
+void check(const KeySpec& spec, const Value& value, const std::string& where) {
     const std::string problem = check_value(spec, value);
     if (problem.empty()) return;
     std::string extra;
@@ -240,12 +245,12 @@ void check(const KeySpec& spec, const Value& value, const std::string& where)
 using Values = std::map<std::string, PresetValue>;
 
 void load_recursive(const std::string& name, const fs::path& relative_to, const SourceLocation& requested_at,
-                    std::vector<std::string>& chain, Values& values)
-{
+                    std::vector<std::string>& chain, Values& values) {
     const Source src = find_source(name, relative_to, requested_at);
     if (std::find(chain.begin(), chain.end(), src.identity) != chain.end()) {
         std::string cycle;
-        for (const auto& c : chain) cycle += c + " -> ";
+        for (const auto& c : chain)
+            cycle += c + " -> ";
         throw InputError(requested_at.text(), "'extends' forms a cycle: " + cycle + src.identity,
                          "remove the extends line that closes the loop");
     }
@@ -265,8 +270,8 @@ void load_recursive(const std::string& name, const fs::path& relative_to, const 
     if (const toml::node* ext = table.get("extends")) {
         if (!ext->is_string())
             throw InputError(where(*ext), "extends must be a preset name in quotes", "write extends = \"bark\"");
-        load_recursive(std::string(*ext->value<std::string>()), src.dir, {src.display, static_cast<int>(ext->source().begin.line)},
-                       chain, values);
+        load_recursive(std::string(*ext->value<std::string>()), src.dir,
+                       {src.display, static_cast<int>(ext->source().begin.line)}, chain, values);
     }
 
     // === Flatten nested tables into "section.key" leaves and check each against the schema
@@ -280,13 +285,16 @@ void load_recursive(const std::string& name, const fs::path& relative_to, const 
             if (!spec && node.is_table()) {
                 if (!is_section(full)) {
                     std::vector<std::string> sections;
-                    for (const auto& [s, about] : preset_sections()) sections.push_back(s);
-                    throw InputError(where(node), "unknown section [" + full + "]" + did_you_mean(full, sections),
-                                     "sections are: " + [&] {
-                                         std::string l;
-                                         for (const auto& s : sections) l += (l.empty() ? "" : ", ") + s;
-                                         return l;
-                                     }() + " (docs/presets.md)");
+                    for (const auto& [s, about] : preset_sections())
+                        sections.push_back(s);
+                    throw InputError(
+                        where(node), "unknown section [" + full + "]" + did_you_mean(full, sections),
+                        "sections are: " + [&] {
+                            std::string l;
+                            for (const auto& s : sections)
+                                l += (l.empty() ? "" : ", ") + s;
+                            return l;
+                        }() + " (docs/presets.md)");
                 }
                 walk(*node.as_table(), full);
                 continue;
@@ -307,8 +315,7 @@ void load_recursive(const std::string& name, const fs::path& relative_to, const 
     chain.pop_back();
 }
 
-void apply_override(const std::string& assignment, Values& values)
-{
+void apply_override(const std::string& assignment, Values& values) {
     const std::string where = "--set " + assignment;
     const auto eq = assignment.find('=');
     if (eq == std::string::npos || eq == 0)
@@ -327,21 +334,24 @@ void apply_override(const std::string& assignment, Values& values)
     } catch (const toml::parse_error&) {
         parsed_ok = false;
     }
-    if (parsed_ok && parsed.get("v") && !((spec->type == ValueType::String || spec->type == ValueType::Enum)
-                                          && !parsed.get("v")->is_string())) {
+    if (parsed_ok && parsed.get("v")
+        && !((spec->type == ValueType::String || spec->type == ValueType::Enum) && !parsed.get("v")->is_string())) {
         value = convert(*spec, *parsed.get("v"), where);
     } else if (spec->type == ValueType::String || spec->type == ValueType::Enum) {
-        value = raw;  // bare words are fine for text: --set surface.kind=plane
+        value = raw; // bare words are fine for text: --set surface.kind=plane
     } else {
         throw InputError(where, "'" + raw + "' is not a valid value for " + key, "write " + example_of(*spec));
     }
     check(*spec, value, where);
-    values[key] = PresetValue{value, {"--set", 0}, fs::current_path()};
+    PresetValue from_cli;
+    from_cli.value = value;
+    from_cli.source = SourceLocation{"--set", 0};
+    from_cli.base_dir = fs::current_path();
+    values[key] = std::move(from_cli);
 }
 
 /// Checks that involve more than one key.
-void check_consistency(const Preset& p)
-{
+void check_consistency(const Preset& p) {
     auto at = [&](const std::string& key) { return p.entry(key).source.text(); };
     const std::string kind = p.text("surface.kind");
     const auto& size = p.numbers("surface.size");
@@ -354,8 +364,8 @@ void check_consistency(const Preset& p)
     if (kind != "sphere") {
         const double aspect = std::max(size[0], size[1]) / std::min(size[0], size[1]);
         if (aspect > 1000)
-            throw InputError(at("surface.size"), "surface.size " + to_toml(size) + " is a sliver (aspect " +
-                                                     to_toml(aspect) + ")",
+            throw InputError(at("surface.size"),
+                             "surface.size " + to_toml(size) + " is a sliver (aspect " + to_toml(aspect) + ")",
                              "keep the aspect ratio below 1000");
     }
 
@@ -365,8 +375,8 @@ void check_consistency(const Preset& p)
         const double a = std::fmod(std::abs(angle), 180.0);
         if (a != 0.0 && a != 90.0)
             throw InputError(at("growth.angle_deg"),
-                             "growth.angle_deg = " + to_toml(angle) + " on a " + kind +
-                                 ": a linear field there can grow around the axis or along it, not at a slant",
+                             "growth.angle_deg = " + to_toml(angle) + " on a " + kind
+                                 + ": a linear field there can grow around the axis or along it, not at a slant",
                              "use 0 (r1 around the axis) or 90 (r1 along it)");
     }
     const double duration = p.number("simulation.duration");
@@ -375,16 +385,16 @@ void check_consistency(const Preset& p)
         const double r_min = growth == "isogonic" ? rate[0] : std::min(rate[0], rate[1]);
         if (1.0 + duration * r_min <= 0.05)
             throw InputError(at("growth.rate"),
-                             "growth.rate " + to_toml(rate) + " over simulation.duration " + to_toml(duration) +
-                                 " shrinks the background to nothing (1 + r·t ≤ 0.05)",
+                             "growth.rate " + to_toml(rate) + " over simulation.duration " + to_toml(duration)
+                                 + " shrinks the background to nothing (1 + r·t ≤ 0.05)",
                              "use a rate above " + to_toml(-0.95 / duration) + " or a shorter duration");
     }
     const auto& shrink = p.numbers("material.shrinkage");
     for (double s : shrink)
         if (1.0 - duration * s <= 0.05)
             throw InputError(at("material.shrinkage"),
-                             "material.shrinkage " + to_toml(shrink) + " over simulation.duration " +
-                                 to_toml(duration) + " shrinks the layer to nothing (1 − s·t ≤ 0.05)",
+                             "material.shrinkage " + to_toml(shrink) + " over simulation.duration " + to_toml(duration)
+                                 + " shrinks the layer to nothing (1 − s·t ≤ 0.05)",
                              "use rates below " + to_toml(0.95 / duration) + " or a shorter duration");
 
     for (const auto& [section, about] : preset_sections()) {
@@ -401,29 +411,38 @@ void check_consistency(const Preset& p)
     }
 }
 
-}  // namespace
+} // namespace
 
-Preset load_preset(const PresetRequest& request)
-{
+Preset load_preset(const PresetRequest& request) {
     Values values;
     std::vector<std::string> chain;
     load_recursive(request.name_or_path, {}, {}, chain, values);
-    for (const std::string& o : request.overrides) apply_override(o, values);
+    for (const std::string& o : request.overrides)
+        apply_override(o, values);
     if (request.seed >= 0) {
         const KeySpec* spec = find_key("simulation.seed");
         const Value seed = request.seed;
         check(*spec, seed, "--seed");
-        values["simulation.seed"] = PresetValue{seed, {"--seed", 0}, {}};
+        PresetValue from_cli;
+        from_cli.value = seed;
+        from_cli.source = SourceLocation{"--seed", 0};
+        values["simulation.seed"] = from_cli;
     }
 
     Preset preset;
     preset.name = request.name_or_path;
     for (const KeySpec& spec : preset_schema()) {
         auto it = values.find(spec.name());
-        preset.set(spec.name(), it != values.end() ? it->second : PresetValue{spec.default_value, {}, {}});
+        if (it != values.end()) {
+            preset.set(spec.name(), it->second);
+        } else {
+            PresetValue by_default; // source.file stays empty: "default"
+            by_default.value = spec.default_value;
+            preset.set(spec.name(), by_default);
+        }
     }
     check_consistency(preset);
     return preset;
 }
 
-}  // namespace crackle::io
+} // namespace crackle::io

@@ -2,19 +2,19 @@
 /// @file Presets: TOML files (toml++) checked against the schema, resolved through
 /// `extends`, defaults and `--set` overrides before any work starts.
 
+#include "io/preset_schema.hpp"
+
 #include <cstdint>
 #include <filesystem>
 #include <map>
 #include <string>
 #include <vector>
 
-#include "io/preset_schema.hpp"
-
 namespace crackle::io {
 
 /// Where a value came from: "presets/bark.toml:12", "--set", or "default".
 struct SourceLocation {
-    std::string file;  ///< file name as given, "--set", or "" for the default
+    std::string file; ///< file name as given, "--set", or "" for the default
     int line = 0;
 
     std::string text() const;
@@ -23,12 +23,12 @@ struct SourceLocation {
 struct PresetValue {
     Value value;
     SourceLocation source;
-    std::filesystem::path base_dir;  ///< folder that relative paths (images) resolve against
+    std::filesystem::path base_dir; ///< folder that relative paths (images) resolve against
 };
 
 class Preset {
 public:
-    std::string name;  ///< as requested: "bark", "my/preset.toml"
+    std::string name; ///< as requested: "bark", "my/preset.toml"
 
     double number(const std::string& key) const;
     std::int64_t integer(const std::string& key) const;
@@ -51,9 +51,9 @@ private:
 
 /// A request to load a preset.
 struct PresetRequest {
-    std::string name_or_path;            ///< built-in name ("bark", "mud/thick") or a .toml path
-    std::vector<std::string> overrides;  ///< "section.key=value" (--set)
-    std::int64_t seed = -1;              ///< --seed; < 0 keeps simulation.seed
+    std::string name_or_path;           ///< built-in name ("bark", "mud/thick") or a .toml path
+    std::vector<std::string> overrides; ///< "section.key=value" (--set)
+    std::int64_t seed = -1;             ///< --seed; < 0 keeps simulation.seed
 };
 
 /// Loads, inherits, checks and completes a preset. Throws InputError with
@@ -65,4 +65,4 @@ std::vector<std::string> builtin_preset_names();
 /// First comment line of a built-in preset (its one-line summary), or "".
 std::string builtin_preset_summary(const std::string& name);
 
-}  // namespace crackle::io
+} // namespace crackle::io

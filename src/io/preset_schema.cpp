@@ -8,8 +8,7 @@ namespace crackle::io {
 namespace {
 
 KeySpec number(std::string section, std::string key, double def, std::string unit, double lo, double hi,
-               std::string description, bool lo_excl = false, bool hi_excl = false)
-{
+               std::string description, bool lo_excl = false, bool hi_excl = false) {
     KeySpec s;
     s.section = std::move(section);
     s.key = std::move(key);
@@ -25,8 +24,7 @@ KeySpec number(std::string section, std::string key, double def, std::string uni
 }
 
 KeySpec integer(std::string section, std::string key, std::int64_t def, std::string unit, double lo, double hi,
-                std::string description)
-{
+                std::string description) {
     KeySpec s = number(std::move(section), std::move(key), 0, std::move(unit), lo, hi, std::move(description));
     s.type = ValueType::Int;
     s.default_value = def;
@@ -34,8 +32,7 @@ KeySpec integer(std::string section, std::string key, std::int64_t def, std::str
 }
 
 KeySpec choice(std::string section, std::string key, std::string def, std::vector<std::string> choices,
-               std::string description)
-{
+               std::string description) {
     KeySpec s;
     s.section = std::move(section);
     s.key = std::move(key);
@@ -46,9 +43,8 @@ KeySpec choice(std::string section, std::string key, std::string def, std::vecto
     return s;
 }
 
-KeySpec array(std::string section, std::string key, std::vector<double> def, int min_len, int max_len,
-              std::string unit, double lo, double hi, std::string description, bool lo_excl = false)
-{
+KeySpec array(std::string section, std::string key, std::vector<double> def, int min_len, int max_len, std::string unit,
+              double lo, double hi, std::string description, bool lo_excl = false) {
     KeySpec s = number(std::move(section), std::move(key), 0, std::move(unit), lo, hi, std::move(description), lo_excl);
     s.type = ValueType::FloatArray;
     s.default_value = std::move(def);
@@ -57,8 +53,7 @@ KeySpec array(std::string section, std::string key, std::vector<double> def, int
     return s;
 }
 
-KeySpec text(std::string section, std::string key, std::string def, std::string description)
-{
+KeySpec text(std::string section, std::string key, std::string def, std::string description) {
     KeySpec s;
     s.section = std::move(section);
     s.key = std::move(key);
@@ -71,8 +66,7 @@ KeySpec text(std::string section, std::string key, std::string def, std::string 
 /// The properties that may vary over the surface (§5.9), each with a [variation.*] section.
 const char* const VARYING[] = {"thickness", "young_modulus", "threshold_stress", "toughness"};
 
-std::vector<KeySpec> build_schema()
-{
+std::vector<KeySpec> build_schema() {
     std::vector<KeySpec> s;
     // === [surface]
     s.push_back(choice("surface", "kind", "cylinder", {"plane", "cylinder", "sphere"},
@@ -126,9 +120,11 @@ std::vector<KeySpec> build_schema()
                            "Relative variation: values span p0·(1 − amplitude) … p0·(1 + amplitude)."));
         s.push_back(number(sec, "scale", 0.05, "m", 0.0, 1000.0,
                            "Noise feature size. Features of this size make cracks wander and cluster.", true));
-        s.push_back(integer(sec, "octaves", 3, "", 1, 8, "Noise octaves, each half the size and strength of the last."));
-        s.push_back(number(sec, "angle_deg", 0.0, "deg", -360.0, 360.0,
-                           "Gradient direction in texture space, degrees from u (90 = along v). Gradients do not tile."));
+        s.push_back(
+            integer(sec, "octaves", 3, "", 1, 8, "Noise octaves, each half the size and strength of the last."));
+        s.push_back(
+            number(sec, "angle_deg", 0.0, "deg", -360.0, 360.0,
+                   "Gradient direction in texture space, degrees from u (90 = along v). Gradients do not tile."));
         s.push_back(text(sec, "image", "",
                          "Grayscale PNG mapped over texture space (relative to the preset file). Needs pattern = "
                          "\"image\"."));
@@ -163,23 +159,20 @@ std::vector<KeySpec> build_schema()
     return s;
 }
 
-}  // namespace
+} // namespace
 
-const std::vector<KeySpec>& preset_schema()
-{
+const std::vector<KeySpec>& preset_schema() {
     static const std::vector<KeySpec> schema = build_schema();
     return schema;
 }
 
-const KeySpec* find_key(const std::string& full_name)
-{
+const KeySpec* find_key(const std::string& full_name) {
     for (const KeySpec& k : preset_schema())
         if (k.name() == full_name) return &k;
     return nullptr;
 }
 
-const std::vector<std::pair<std::string, std::string>>& preset_sections()
-{
+const std::vector<std::pair<std::string, std::string>>& preset_sections() {
     static const std::vector<std::pair<std::string, std::string>> sections = [] {
         std::vector<std::pair<std::string, std::string>> v = {
             {"surface", "The background surface and its size (thesis Ch. 3)."},
@@ -198,8 +191,7 @@ const std::vector<std::pair<std::string, std::string>>& preset_sections()
 }
 
 namespace {
-std::string fmt_number(double x)
-{
+std::string fmt_number(double x) {
     char buf[32];
     if (x != 0 && (std::abs(x) >= 1e6 || std::abs(x) < 1e-3))
         std::snprintf(buf, sizeof buf, "%.6g", x);
@@ -210,10 +202,9 @@ std::string fmt_number(double x)
     if (s.find_first_of(".eEn") == std::string::npos) s += ".0";
     return s;
 }
-}  // namespace
+} // namespace
 
-std::string to_toml(const Value& value)
-{
+std::string to_toml(const Value& value) {
     if (const auto* d = std::get_if<double>(&value)) return fmt_number(*d);
     if (const auto* i = std::get_if<std::int64_t>(&value)) return std::to_string(*i);
     if (const auto* b = std::get_if<bool>(&value)) return *b ? "true" : "false";
@@ -227,21 +218,25 @@ std::string to_toml(const Value& value)
     }
     const auto& a = std::get<std::vector<double>>(value);
     std::string out = "[";
-    for (std::size_t k = 0; k < a.size(); ++k) out += (k ? ", " : "") + fmt_number(a[k]);
+    for (std::size_t k = 0; k < a.size(); ++k)
+        out += (k ? ", " : "") + fmt_number(a[k]);
     return out + "]";
 }
 
-std::string range_text(const KeySpec& spec)
-{
+std::string range_text(const KeySpec& spec) {
     switch (spec.type) {
     case ValueType::Enum: {
         std::string out;
-        for (std::size_t k = 0; k < spec.choices.size(); ++k) out += (k ? " | " : "") + spec.choices[k];
+        for (std::size_t k = 0; k < spec.choices.size(); ++k)
+            out += (k ? " | " : "") + spec.choices[k];
         return out;
     }
-    case ValueType::String: return "text";
-    case ValueType::Bool: return "true | false";
-    default: break;
+    case ValueType::String:
+        return "text";
+    case ValueType::Bool:
+        return "true | false";
+    default:
+        break;
     }
     auto bound = [&](double v) {
         if (spec.type == ValueType::Int) {
@@ -264,8 +259,7 @@ std::string range_text(const KeySpec& spec)
     return r;
 }
 
-std::string check_value(const KeySpec& spec, const Value& value)
-{
+std::string check_value(const KeySpec& spec, const Value& value) {
     auto in_range = [&](double x) {
         if (!std::isfinite(x)) return false;
         if (spec.min_exclusive ? x <= spec.min : x < spec.min) return false;
@@ -283,7 +277,8 @@ std::string check_value(const KeySpec& spec, const Value& value)
     case ValueType::Enum: {
         const auto& s = std::get<std::string>(value);
         bool found = false;
-        for (const auto& c : spec.choices) found = found || c == s;
+        for (const auto& c : spec.choices)
+            found = found || c == s;
         if (!found) os << "must be one of " << range_text(spec);
         break;
     }
@@ -291,9 +286,10 @@ std::string check_value(const KeySpec& spec, const Value& value)
         const auto& a = std::get<std::vector<double>>(value);
         const int n = static_cast<int>(a.size());
         if (n < spec.min_length || n > spec.max_length) {
-            os << "must have " << (spec.min_length == spec.max_length ? std::to_string(spec.min_length)
-                                                                      : std::to_string(spec.min_length) + " to "
-                                                                            + std::to_string(spec.max_length))
+            os << "must have "
+               << (spec.min_length == spec.max_length
+                       ? std::to_string(spec.min_length)
+                       : std::to_string(spec.min_length) + " to " + std::to_string(spec.max_length))
                << " elements, not " << n;
             break;
         }
@@ -305,13 +301,13 @@ std::string check_value(const KeySpec& spec, const Value& value)
         break;
     }
     case ValueType::Bool:
-    case ValueType::String: break;
+    case ValueType::String:
+        break;
     }
     return os.str();
 }
 
-std::string schema_markdown()
-{
+std::string schema_markdown() {
     std::ostringstream md;
     md << "# Preset reference\n\n"
        << "Generated by `crackle presets doc` from the schema in `src/io/preset_schema.cpp`; do not edit by hand.\n"
@@ -330,12 +326,24 @@ std::string schema_markdown()
             if (k.section != section) continue;
             const char* type = "";
             switch (k.type) {
-            case ValueType::Float: type = "float"; break;
-            case ValueType::Int: type = "integer"; break;
-            case ValueType::Bool: type = "bool"; break;
-            case ValueType::String: type = "string"; break;
-            case ValueType::Enum: type = "choice"; break;
-            case ValueType::FloatArray: type = "float array"; break;
+            case ValueType::Float:
+                type = "float";
+                break;
+            case ValueType::Int:
+                type = "integer";
+                break;
+            case ValueType::Bool:
+                type = "bool";
+                break;
+            case ValueType::String:
+                type = "string";
+                break;
+            case ValueType::Enum:
+                type = "choice";
+                break;
+            case ValueType::FloatArray:
+                type = "float array";
+                break;
             }
             std::string range = range_text(k);
             for (std::size_t p = range.find('|'); p != std::string::npos; p = range.find('|', p + 2))
@@ -347,4 +355,4 @@ std::string schema_markdown()
     return md.str();
 }
 
-}  // namespace crackle::io
+} // namespace crackle::io

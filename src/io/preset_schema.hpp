@@ -15,16 +15,16 @@ enum class ValueType { Float, Int, Bool, String, Enum, FloatArray };
 using Value = std::variant<double, std::int64_t, bool, std::string, std::vector<double>>;
 
 struct KeySpec {
-    std::string section;  ///< "material", "variation.thickness"
-    std::string key;      ///< "young_modulus"
+    std::string section; ///< "material", "variation.thickness"
+    std::string key;     ///< "young_modulus"
     ValueType type = ValueType::Float;
     Value default_value;
-    std::string unit;         ///< "Pa", "m", "1/time", "" when dimensionless
-    std::string description;  ///< one line: what it does, and how it looks
-    double min = -1e300, max = 1e300;  ///< numeric range (each element for arrays)
+    std::string unit;                 ///< "Pa", "m", "1/time", "" when dimensionless
+    std::string description;          ///< one line: what it does, and how it looks
+    double min = -1e300, max = 1e300; ///< numeric range (each element for arrays)
     bool min_exclusive = false, max_exclusive = false;
-    std::vector<std::string> choices;  ///< Enum values
-    int min_length = 0, max_length = 0;  ///< FloatArray lengths
+    std::vector<std::string> choices;   ///< Enum values
+    int min_length = 0, max_length = 0; ///< FloatArray lengths
 
     std::string name() const { return section + "." + key; }
 };
@@ -51,4 +51,4 @@ std::string to_toml(const Value& value);
 /// The Markdown reference (docs/presets.md), generated from the schema.
 std::string schema_markdown();
 
-}  // namespace crackle::io
+} // namespace crackle::io

@@ -4,15 +4,13 @@
 
 namespace crackle::mesh {
 
-std::size_t points_for_elements(SurfaceKind kind, std::size_t elements)
-{
+std::size_t points_for_elements(SurfaceKind kind, std::size_t elements) {
     if (kind == SurfaceKind::Sphere) return std::max<std::size_t>(4, (elements + 4) / 2);
     return std::max<std::size_t>(3, elements / 2);
 }
 
-SurfaceMesh discretize(const Surface& surface, const DiscretizeOptions& options, const SpacingOverUv& spacing,
-                       Rng& rng, StepTimes* times)
-{
+SurfaceMesh discretize(const Surface& surface, const DiscretizeOptions& options, const SpacingOverUv& spacing, Rng& rng,
+                       StepTimes* times) {
     SamplingOptions sampling = options.sampling;
     sampling.count = points_for_elements(surface.kind(), options.elements);
     Timer timer;
@@ -36,4 +34,4 @@ SurfaceMesh discretize(const Surface& surface, const DiscretizeOptions& options,
     return mesh;
 }
 
-}  // namespace crackle::mesh
+} // namespace crackle::mesh

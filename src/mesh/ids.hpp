@@ -14,9 +14,15 @@ constexpr FaceId NO_FACE = FaceId{std::numeric_limits<std::uint32_t>::max()};
 constexpr VertexId NO_VERTEX = VertexId{std::numeric_limits<std::uint32_t>::max()};
 
 /// The array index behind an id.
-template <typename Id> constexpr std::size_t ix(Id id) { return static_cast<std::size_t>(id); }
-constexpr VertexId vertex_id(std::size_t i) { return VertexId{static_cast<std::uint32_t>(i)}; }
-constexpr FaceId face_id(std::size_t i) { return FaceId{static_cast<std::uint32_t>(i)}; }
+template <typename Id> constexpr std::size_t ix(Id id) {
+    return static_cast<std::size_t>(id);
+}
+constexpr VertexId vertex_id(std::size_t i) {
+    return VertexId{static_cast<std::uint32_t>(i)};
+}
+constexpr FaceId face_id(std::size_t i) {
+    return FaceId{static_cast<std::uint32_t>(i)};
+}
 
 /// A per-element array that only takes its own id type as index.
 template <typename Id, typename T> class IdVector {
@@ -40,4 +46,4 @@ private:
     std::vector<T> m_data;
 };
 
-}  // namespace crackle::mesh
+} // namespace crackle::mesh

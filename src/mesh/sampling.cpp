@@ -10,15 +10,16 @@
 
 namespace crackle::mesh {
 
-double mean_repulsion_radius(double area, std::size_t count)
-{
+double mean_repulsion_radius(double area, std::size_t count) {
     return 0.5 * std::sqrt(3.2 * area / (static_cast<double>(count) * PI));
 }
 
 namespace {
 
 /// Repulsion force magnitude, Eq. 5.1 [R]: f(d) = 1 − (d / r_sum)² for d ≤ r_sum, else 0.
-inline double repulsion(double d2, double rsum) { return 1.0 - d2 / sqr(rsum); }
+inline double repulsion(double d2, double rsum) {
+    return 1.0 - d2 / sqr(rsum);
+}
 
 /// Movement per iteration: a point moves STEP·r_i along its summed unit forces, at most
 /// MAX_MOVE·r_i. Measured on 10k points (crackle -vv mesh): STEP = 0.5 separates overlaps
@@ -27,16 +28,15 @@ inline double repulsion(double d2, double rsum) { return 1.0 - d2 / sqr(rsum); }
 constexpr double STEP = 0.25;
 constexpr double MAX_MOVE = 0.5;
 
-std::vector<double> perturbation_factors(std::size_t n, double jitter, Rng& rng)
-{
+std::vector<double> perturbation_factors(std::size_t n, double jitter, Rng& rng) {
     std::vector<double> rho(n);
-    for (double& r : rho) r = 1.0 + jitter * rng.uniform(-1.0, 1.0);
+    for (double& r : rho)
+        r = 1.0 + jitter * rng.uniform(-1.0, 1.0);
     return rho;
 }
 
 /// ∫ s⁻² dA over the torus, by the midpoint rule on a 64 × 64 grid; also the minimum s.
-std::pair<double, double> effective_area(const Vec2& period, const SpacingField2& spacing)
-{
+std::pair<double, double> effective_area(const Vec2& period, const SpacingField2& spacing) {
     if (!spacing) return {period.x() * period.y(), 1.0};
     constexpr int N = 64;
     double sum = 0, s_min = std::numeric_limits<double>::infinity();
@@ -50,18 +50,17 @@ std::pair<double, double> effective_area(const Vec2& period, const SpacingField2
     return {sum / (N * N) * period.x() * period.y(), s_min};
 }
 
-}  // namespace
+} // namespace
 
-std::vector<Vec2> sample_uniform_random(const Vec2& period, std::size_t count, Rng& rng)
-{
+std::vector<Vec2> sample_uniform_random(const Vec2& period, std::size_t count, Rng& rng) {
     std::vector<Vec2> pts(count);
-    for (Vec2& p : pts) p = Vec2(rng.uniform() * period.x(), rng.uniform() * period.y());
+    for (Vec2& p : pts)
+        p = Vec2(rng.uniform() * period.x(), rng.uniform() * period.y());
     return pts;
 }
 
 std::vector<Vec2> sample_periodic(const Vec2& period, const SamplingOptions& options, const SpacingField2& spacing,
-                                  Rng& rng)
-{
+                                  Rng& rng) {
     const std::size_t n = options.count;
     CRACKLE_ASSERT(n >= 3, "need at least 3 points");
     const auto [area_eff, s_min] = effective_area(period, spacing);
@@ -105,7 +104,8 @@ std::vector<Vec2> sample_periodic(const Vec2& period, const SamplingOptions& opt
         std::partial_sum(cell_start.begin(), cell_start.end(), cell_start.begin());
         {
             std::vector<std::uint32_t> fill(cell_start.begin(), cell_start.end() - 1);
-            for (std::size_t i = 0; i < n; ++i) cell_points[fill[point_cell[i]]++] = static_cast<std::uint32_t>(i);
+            for (std::size_t i = 0; i < n; ++i)
+                cell_points[fill[point_cell[i]]++] = static_cast<std::uint32_t>(i);
         }
         // Store the points in cell order: neighbours sit close in memory (10× fewer cache
         // misses at a million points).
@@ -149,8 +149,8 @@ std::vector<Vec2> sample_periodic(const Vec2& period, const SamplingOptions& opt
                         if (d2 >= sqr(rsum)) continue;
                         const double d = std::sqrt(d2);
                         // Coincident points: push apart along a direction fixed by the ids.
-                        const Vec2 dir = d > 1e-12 * rsum ? Vec2(delta / d)
-                                                          : Vec2(std::cos(double(i ^ j)), std::sin(double(i ^ j)));
+                        const Vec2 dir =
+                            d > 1e-12 * rsum ? Vec2(delta / d) : Vec2(std::cos(double(i ^ j)), std::sin(double(i ^ j)));
                         force += repulsion(d2, rsum) * dir;
                     }
                 }
@@ -168,8 +168,7 @@ std::vector<Vec2> sample_periodic(const Vec2& period, const SamplingOptions& opt
         }
         progress.update(it + 1);
         if (max_move < options.tolerance * r_bar || it + 1 == options.max_iterations) {
-            log::debug("repulsion: ", n, " points, ", it + 1, " iterations, last max move ", max_move / r_bar,
-                       " r̄");
+            log::debug("repulsion: ", n, " points, ", it + 1, " iterations, last max move ", max_move / r_bar, " r̄");
             break;
         }
     }
@@ -180,13 +179,13 @@ namespace {
 /// Open-addressing hash from a 3D cell to its range in the sorted point list.
 class CellTable {
 public:
-    void build(const std::vector<std::uint64_t>& sorted_keys)
-    {
+    void build(const std::vector<std::uint64_t>& sorted_keys) {
         std::size_t unique = 0;
         for (std::size_t k = 0; k < sorted_keys.size(); ++k)
             if (k == 0 || sorted_keys[k] != sorted_keys[k - 1]) ++unique;
         std::size_t cap = 16;
-        while (cap < 2 * unique) cap *= 2;
+        while (cap < 2 * unique)
+            cap *= 2;
         m_mask = cap - 1;
         m_keys.assign(cap, EMPTY);
         m_begin.assign(cap, 0);
@@ -197,13 +196,13 @@ public:
             m_keys[h] = sorted_keys[k];
             m_begin[h] = static_cast<std::uint32_t>(k);
             std::size_t e = k;
-            while (e < sorted_keys.size() && sorted_keys[e] == sorted_keys[k]) ++e;
+            while (e < sorted_keys.size() && sorted_keys[e] == sorted_keys[k])
+                ++e;
             m_end[h] = static_cast<std::uint32_t>(e);
         }
     }
     /// [begin, end) of the cell's points, or an empty range.
-    std::pair<std::uint32_t, std::uint32_t> find(std::uint64_t key) const
-    {
+    std::pair<std::uint32_t, std::uint32_t> find(std::uint64_t key) const {
         const std::size_t h = slot(key);
         if (m_keys[h] != key) return {0, 0};
         return {m_begin[h], m_end[h]};
@@ -211,10 +210,10 @@ public:
 
 private:
     static constexpr std::uint64_t EMPTY = ~std::uint64_t{0};
-    std::size_t slot(std::uint64_t key) const
-    {
+    std::size_t slot(std::uint64_t key) const {
         std::size_t h = static_cast<std::size_t>((key * 0x9E3779B97F4A7C15ULL) >> 20) & m_mask;
-        while (m_keys[h] != EMPTY && m_keys[h] != key) h = (h + 1) & m_mask;
+        while (m_keys[h] != EMPTY && m_keys[h] != key)
+            h = (h + 1) & m_mask;
         return h;
     }
     std::size_t m_mask = 0;
@@ -222,16 +221,14 @@ private:
     std::vector<std::uint32_t> m_begin, m_end;
 };
 
-std::uint64_t cell_key(int x, int y, int z)
-{
+std::uint64_t cell_key(int x, int y, int z) {
     constexpr int BIAS = 1 << 20;
     return (std::uint64_t(x + BIAS) << 42) | (std::uint64_t(y + BIAS) << 21) | std::uint64_t(z + BIAS);
 }
-}  // namespace
+} // namespace
 
 std::vector<Vec3> sample_sphere(double radius_sphere, const SamplingOptions& options, const SpacingField3& spacing,
-                                Rng& rng)
-{
+                                Rng& rng) {
     const std::size_t n = options.count;
     CRACKLE_ASSERT(n >= 4, "need at least 4 points on a sphere");
     auto local_scale = [&](const Vec3& p) { return spacing ? spacing(p) : 1.0; };
@@ -281,7 +278,8 @@ std::vector<Vec3> sample_sphere(double radius_sphere, const SamplingOptions& opt
         }
         const double cell = 2.0 * r_max;
         auto cell_of = [&](const Vec3& p) {
-            return Eigen::Vector3i(static_cast<int>(std::floor(p.x() / cell)), static_cast<int>(std::floor(p.y() / cell)),
+            return Eigen::Vector3i(static_cast<int>(std::floor(p.x() / cell)),
+                                   static_cast<int>(std::floor(p.y() / cell)),
                                    static_cast<int>(std::floor(p.z() / cell)));
         };
         for (std::size_t i = 0; i < n; ++i) {
@@ -320,7 +318,7 @@ std::vector<Vec3> sample_sphere(double radius_sphere, const SamplingOptions& opt
                             const double d2 = delta.squaredNorm();
                             if (d2 >= sqr(rsum)) continue;
                             const double d = std::sqrt(d2);
-                            if (d < 1e-12 * rsum) continue;  // projection separates them next time
+                            if (d < 1e-12 * rsum) continue; // projection separates them next time
                             force += repulsion(d2, rsum) * delta / d;
                         }
                     }
@@ -348,4 +346,4 @@ std::vector<Vec3> sample_sphere(double radius_sphere, const SamplingOptions& opt
     return pts;
 }
 
-}  // namespace crackle::mesh
+} // namespace crackle::mesh

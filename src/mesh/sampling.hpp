@@ -3,21 +3,21 @@
 /// (Federl 2002, §5.2.1, Eq. 5.1, Algs. 2–3): roughly uniform triangles with random
 /// orientation, neither a lattice (Fig. 5.1) nor degenerate random triangles (Fig. 5.2).
 
+#include "core/math.hpp"
+#include "core/rng.hpp"
+
 #include <cstddef>
 #include <functional>
 #include <vector>
 
-#include "core/math.hpp"
-#include "core/rng.hpp"
-
 namespace crackle::mesh {
 
 struct SamplingOptions {
-    std::size_t count = 1000;  ///< number of points
+    std::size_t count = 1000; ///< number of points
     /// δ of the radius perturbation r_i = r̄·(1 + δ·U[−1, 1]) (digest §3.2 [I]: 0.2–0.3).
     /// Without it the points settle into a hexagonal lattice.
     double jitter = 0.25;
-    int max_iterations = 100;  ///< repulsion iterations at most
+    int max_iterations = 100; ///< repulsion iterations at most
     /// Stop when no point moves more than tolerance·r̄ in one iteration.
     double tolerance = 0.03;
 };
@@ -35,8 +35,7 @@ std::vector<Vec2> sample_periodic(const Vec2& period, const SamplingOptions& opt
 
 /// Repelled points on a sphere of the given radius: repel in 3D, project back onto the
 /// sphere after every iteration (§5.2.1).
-std::vector<Vec3> sample_sphere(double radius, const SamplingOptions& options, const SpacingField3& spacing,
-                                Rng& rng);
+std::vector<Vec3> sample_sphere(double radius, const SamplingOptions& options, const SpacingField3& spacing, Rng& rng);
 
 /// Uniformly random points on the torus (the degenerate baseline of Fig. 5.2).
 std::vector<Vec2> sample_uniform_random(const Vec2& period, std::size_t count, Rng& rng);
@@ -44,4 +43,4 @@ std::vector<Vec2> sample_uniform_random(const Vec2& period, std::size_t count, R
 /// Mean repulsion radius r̄ = ½·√(3.2·A/(n·π)) (digest §3.2: r_sum below √(3.2A/(nπ))).
 double mean_repulsion_radius(double area, std::size_t count);
 
-}  // namespace crackle::mesh
+} // namespace crackle::mesh

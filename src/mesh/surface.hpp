@@ -38,7 +38,7 @@ public:
 
     /// Domain size (Lx, Ly) of a periodic surface in metres.
     Vec2 period() const { return m_period; }
-    double radius() const { return m_radius; }  ///< cylinder / sphere radius
+    double radius() const { return m_radius; } ///< cylinder / sphere radius
     double area() const;
 
     // === Periodic surfaces: domain coordinates → 3D (background at t = 0)
@@ -66,4 +66,4 @@ private:
     double m_radius = 0.0;
 };
 
-}  // namespace crackle::mesh
+} // namespace crackle::mesh

@@ -9,39 +9,33 @@
 
 namespace crackle::mesh {
 
-Vec3 SurfaceMesh::corner_position(FaceId f, int k) const
-{
+Vec3 SurfaceMesh::corner_position(FaceId f, int k) const {
     const Face& face = faces[f];
     const Vec2i& o = face.offset[static_cast<size_t>(k)];
     return positions[face.v[static_cast<size_t>(k)]] + o.x() * period_vectors[0] + o.y() * period_vectors[1];
 }
 
-std::array<Vec3, 3> SurfaceMesh::face_positions(FaceId f) const
-{
+std::array<Vec3, 3> SurfaceMesh::face_positions(FaceId f) const {
     return {corner_position(f, 0), corner_position(f, 1), corner_position(f, 2)};
 }
 
-Vec2 SurfaceMesh::corner_domain(FaceId f, int k) const
-{
+Vec2 SurfaceMesh::corner_domain(FaceId f, int k) const {
     const Face& face = faces[f];
     const Vec2i& o = face.offset[static_cast<size_t>(k)];
     return domain[face.v[static_cast<size_t>(k)]] + Vec2(o.x() * period.x(), o.y() * period.y());
 }
 
-Vec3 SurfaceMesh::face_normal(FaceId f) const
-{
+Vec3 SurfaceMesh::face_normal(FaceId f) const {
     const auto p = face_positions(f);
     return (p[1] - p[0]).cross(p[2] - p[0]).normalized();
 }
 
-double SurfaceMesh::face_area(FaceId f) const
-{
+double SurfaceMesh::face_area(FaceId f) const {
     const auto p = face_positions(f);
     return 0.5 * (p[1] - p[0]).cross(p[2] - p[0]).norm();
 }
 
-std::array<double, 3> SurfaceMesh::face_angles(FaceId f) const
-{
+std::array<double, 3> SurfaceMesh::face_angles(FaceId f) const {
     const auto p = face_positions(f);
     std::array<double, 3> angles{};
     for (size_t k = 0; k < 3; ++k) {
@@ -52,10 +46,10 @@ std::array<double, 3> SurfaceMesh::face_angles(FaceId f) const
     return angles;
 }
 
-double SurfaceMesh::total_area() const
-{
+double SurfaceMesh::total_area() const {
     double a = 0;
-    for (size_t f = 0; f < num_faces(); ++f) a += face_area(face_id(f));
+    for (size_t f = 0; f < num_faces(); ++f)
+        a += face_area(face_id(f));
     return a;
 }
 
@@ -63,8 +57,7 @@ namespace {
 /// An undirected edge with its periodic offset difference, oriented from the smaller vertex id.
 using EdgeKey = std::tuple<std::uint32_t, std::uint32_t, int, int>;
 
-EdgeKey edge_key(const Face& face, int k, bool& forward)
-{
+EdgeKey edge_key(const Face& face, int k, bool& forward) {
     const size_t a = static_cast<size_t>(k), b = static_cast<size_t>((k + 1) % 3);
     const auto va = static_cast<std::uint32_t>(face.v[a]);
     const auto vb = static_cast<std::uint32_t>(face.v[b]);
@@ -73,10 +66,9 @@ EdgeKey edge_key(const Face& face, int k, bool& forward)
     if (forward) return {va, vb, d.x(), d.y()};
     return {vb, va, -d.x(), -d.y()};
 }
-}  // namespace
+} // namespace
 
-void SurfaceMesh::rebuild_adjacency()
-{
+void SurfaceMesh::rebuild_adjacency() {
     m_neighbors = IdVector<FaceId, std::array<FaceNeighbor, 3>>(num_faces());
     m_vertex_face = IdVector<VertexId, FaceId>(num_vertices(), NO_FACE);
     // Sort half-edges by key: deterministic and cache-friendly (no hash-map order).
@@ -105,7 +97,8 @@ void SurfaceMesh::rebuild_adjacency()
     m_num_boundary_edges = 0;
     for (size_t i = 0; i < half_edges.size();) {
         size_t j = i + 1;
-        while (j < half_edges.size() && half_edges[j].key == half_edges[i].key) ++j;
+        while (j < half_edges.size() && half_edges[j].key == half_edges[i].key)
+            ++j;
         ++m_num_edges;
         if (j - i == 1) {
             ++m_num_boundary_edges;
@@ -114,8 +107,8 @@ void SurfaceMesh::rebuild_adjacency()
             const HalfEdge& b = half_edges[i + 1];
             CRACKLE_ASSERT(j - i == 2, "non-manifold edge " << std::get<0>(a.key) << "-" << std::get<1>(a.key)
                                                             << " shared by " << (j - i) << " faces");
-            CRACKLE_ASSERT(a.forward != b.forward, "faces " << a.face << " and " << b.face
-                                                            << " disagree in orientation across an edge");
+            CRACKLE_ASSERT(a.forward != b.forward,
+                           "faces " << a.face << " and " << b.face << " disagree in orientation across an edge");
             m_neighbors[face_id(a.face)][static_cast<size_t>(a.edge)] = {face_id(b.face), b.edge};
             m_neighbors[face_id(b.face)][static_cast<size_t>(b.edge)] = {face_id(a.face), a.edge};
         }
@@ -123,8 +116,7 @@ void SurfaceMesh::rebuild_adjacency()
     }
 }
 
-std::vector<FaceId> SurfaceMesh::vertex_faces(VertexId v) const
-{
+std::vector<FaceId> SurfaceMesh::vertex_faces(VertexId v) const {
     // Walk the fan around v through the neighbour links; fall back to a scan at boundaries.
     std::vector<FaceId> fan;
     const FaceId start = m_vertex_face[v];
@@ -134,7 +126,8 @@ std::vector<FaceId> SurfaceMesh::vertex_faces(VertexId v) const
         fan.push_back(f);
         const Face& face = faces[f];
         int k = 0;
-        while (face.v[static_cast<size_t>(k)] != v) ++k;
+        while (face.v[static_cast<size_t>(k)] != v)
+            ++k;
         // Next face counter-clockwise around v: across the edge entering corner k.
         const FaceNeighbor& nb = m_neighbors[f][static_cast<size_t>((k + 2) % 3)];
         if (nb.face == NO_FACE) {
@@ -150,13 +143,11 @@ std::vector<FaceId> SurfaceMesh::vertex_faces(VertexId v) const
     return fan;
 }
 
-long SurfaceMesh::euler_characteristic() const
-{
+long SurfaceMesh::euler_characteristic() const {
     return static_cast<long>(num_vertices()) - static_cast<long>(m_num_edges) + static_cast<long>(num_faces());
 }
 
-std::string SurfaceMesh::validate() const
-{
+std::string SurfaceMesh::validate() const {
     std::ostringstream os;
     if (m_neighbors.size() != num_faces()) return "adjacency is out of date (call rebuild_adjacency)";
     for (size_t fi = 0; fi < num_faces(); ++fi) {
@@ -199,8 +190,7 @@ std::string SurfaceMesh::validate() const
     return {};
 }
 
-MeshQuality mesh_quality(const SurfaceMesh& mesh)
-{
+MeshQuality mesh_quality(const SurfaceMesh& mesh) {
     MeshQuality q;
     if (mesh.num_faces() == 0) return q;
     q.min_angle_deg = 180.0;
@@ -238,4 +228,4 @@ MeshQuality mesh_quality(const SurfaceMesh& mesh)
     return q;
 }
 
-}  // namespace crackle::mesh
+} // namespace crackle::mesh

@@ -8,12 +8,12 @@
 /// Faces are counter-clockwise seen from outside (normals point away from the background's
 /// interior). Edge k of a face runs from corner k to corner (k + 1) mod 3.
 
+#include "core/math.hpp"
+#include "mesh/ids.hpp"
+
 #include <array>
 #include <string>
 #include <vector>
-
-#include "core/math.hpp"
-#include "mesh/ids.hpp"
 
 namespace crackle::mesh {
 
@@ -31,12 +31,12 @@ struct FaceNeighbor {
 class SurfaceMesh {
 public:
     // === Data
-    IdVector<VertexId, Vec3> positions;  ///< #V background positions at t = 0 (m)
-    IdVector<VertexId, Vec2> domain;     ///< #V domain coordinates (periodic surfaces; else empty)
-    IdVector<FaceId, Face> faces;        ///< #F
+    IdVector<VertexId, Vec3> positions; ///< #V background positions at t = 0 (m)
+    IdVector<VertexId, Vec2> domain;    ///< #V domain coordinates (periodic surfaces; else empty)
+    IdVector<FaceId, Face> faces;       ///< #F
     bool periodic = false;
-    Vec2 period = Vec2::Zero();          ///< domain period (Lx, Ly) of a periodic mesh
-    std::array<Vec3, 2> period_vectors = {Vec3::Zero(), Vec3::Zero()};  ///< 3D shifts per unit offset
+    Vec2 period = Vec2::Zero();                                        ///< domain period (Lx, Ly) of a periodic mesh
+    std::array<Vec3, 2> period_vectors = {Vec3::Zero(), Vec3::Zero()}; ///< 3D shifts per unit offset
 
     std::size_t num_vertices() const { return positions.size(); }
     std::size_t num_faces() const { return faces.size(); }
@@ -46,9 +46,9 @@ public:
     std::array<Vec3, 3> face_positions(FaceId f) const;
     /// Unrolled domain coordinates of a corner (periodic meshes only).
     Vec2 corner_domain(FaceId f, int k) const;
-    Vec3 face_normal(FaceId f) const;  ///< unit, from the corner positions
+    Vec3 face_normal(FaceId f) const; ///< unit, from the corner positions
     double face_area(FaceId f) const;
-    std::array<double, 3> face_angles(FaceId f) const;  ///< interior angles (rad) at corners 0..2
+    std::array<double, 3> face_angles(FaceId f) const; ///< interior angles (rad) at corners 0..2
     double total_area() const;
 
     // === Adjacency
@@ -78,12 +78,12 @@ private:
 
 /// Mesh quality figures reported by `crackle mesh`.
 struct MeshQuality {
-    double min_angle_deg = 0;         ///< worst triangle's smallest angle
-    double mean_min_angle_deg = 0;    ///< mean over triangles of their smallest angle
-    double fraction_below_10deg = 0;  ///< share of triangles with smallest angle < 10°
-    double edge_min = 0, edge_mean = 0, edge_max = 0, edge_std = 0;  ///< edge lengths (m)
+    double min_angle_deg = 0;                                       ///< worst triangle's smallest angle
+    double mean_min_angle_deg = 0;                                  ///< mean over triangles of their smallest angle
+    double fraction_below_10deg = 0;                                ///< share of triangles with smallest angle < 10°
+    double edge_min = 0, edge_mean = 0, edge_max = 0, edge_std = 0; ///< edge lengths (m)
 };
 
 MeshQuality mesh_quality(const SurfaceMesh& mesh);
 
-}  // namespace crackle::mesh
+} // namespace crackle::mesh

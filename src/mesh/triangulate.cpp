@@ -31,13 +31,12 @@ using Vb3 = CGAL::Triangulation_vertex_base_with_info_3<std::uint32_t, K>;
 using Tds3 = CGAL::Triangulation_data_structure_3<Vb3, CGAL::Delaunay_triangulation_cell_base_3<K>>;
 using Delaunay3 = CGAL::Delaunay_triangulation_3<K, Tds3>;
 
-constexpr double GRID_STEPS = 1073741824.0;  // 2³⁰ grid steps across the domain width
+constexpr double GRID_STEPS = 1073741824.0; // 2³⁰ grid steps across the domain width
 
 /// One attempt with a given margin (in grid units). Returns false if some kept triangle's
 /// circumcircle leaves the band of copies.
 bool triangulate_with_margin(const std::vector<Vec2>& grid_pts, double nx, double ny, double margin,
-                             std::vector<Face>& faces)
-{
+                             std::vector<Face>& faces) {
     const int kx = static_cast<int>(std::ceil(margin / nx));
     const int ky = static_cast<int>(std::ceil(margin / ny));
     std::vector<std::pair<K::Point_2, CopyInfo>> input;
@@ -45,7 +44,7 @@ bool triangulate_with_margin(const std::vector<Vec2>& grid_pts, double nx, doubl
     for (int oy = -ky; oy <= ky; ++oy)
         for (int ox = -kx; ox <= kx; ++ox)
             for (std::size_t i = 0; i < grid_pts.size(); ++i) {
-                const double x = grid_pts[i].x() + ox * nx;  // exact: integers below 2⁵³
+                const double x = grid_pts[i].x() + ox * nx; // exact: integers below 2⁵³
                 const double y = grid_pts[i].y() + oy * ny;
                 if (x < -margin || x > nx + margin || y < -margin || y > ny + margin) continue;
                 input.push_back({K::Point_2(x, y), CopyInfo{static_cast<std::uint32_t>(i), ox, oy}});
@@ -80,8 +79,7 @@ bool triangulate_with_margin(const std::vector<Vec2>& grid_pts, double nx, doubl
 
 /// Rotates each face so that its smallest vertex id comes first, then sorts the faces: the
 /// mesh does not depend on CGAL's internal storage order.
-void sort_faces(std::vector<Face>& faces)
-{
+void sort_faces(std::vector<Face>& faces) {
     for (Face& f : faces) {
         const auto m = static_cast<std::size_t>(std::min_element(f.v.begin(), f.v.end()) - f.v.begin());
         std::rotate(f.v.begin(), f.v.begin() + static_cast<long>(m), f.v.end());
@@ -96,13 +94,12 @@ void sort_faces(std::vector<Face>& faces)
     std::sort(faces.begin(), faces.end(), [&](const Face& a, const Face& b) { return key(a) < key(b); });
 }
 
-}  // namespace
+} // namespace
 
-SurfaceMesh triangulate_periodic(const std::vector<Vec2>& points, const Surface& surface)
-{
+SurfaceMesh triangulate_periodic(const std::vector<Vec2>& points, const Surface& surface) {
     CRACKLE_ASSERT(surface.periodic(), "triangulate_periodic needs a plane or cylinder");
     const Vec2 period = surface.period();
-    const double g = period.x() / GRID_STEPS;  // grid step (m)
+    const double g = period.x() / GRID_STEPS; // grid step (m)
     const double nx = GRID_STEPS;
     const double ny = std::round(period.y() / g);
 
@@ -135,7 +132,8 @@ SurfaceMesh triangulate_periodic(const std::vector<Vec2>& points, const Surface&
         mesh.domain.push_back(d);
         mesh.positions.push_back(surface.position(d));
     }
-    for (const Face& f : faces) mesh.faces.push_back(f);
+    for (const Face& f : faces)
+        mesh.faces.push_back(f);
     mesh.rebuild_adjacency();
     if (mesh.num_boundary_edges() != 0 || mesh.euler_characteristic() != 0) {
         std::ostringstream os;
@@ -146,8 +144,7 @@ SurfaceMesh triangulate_periodic(const std::vector<Vec2>& points, const Surface&
     return mesh;
 }
 
-SurfaceMesh triangulate_sphere(const std::vector<Vec3>& points, const Surface& surface)
-{
+SurfaceMesh triangulate_sphere(const std::vector<Vec3>& points, const Surface& surface) {
     CRACKLE_ASSERT(surface.kind() == SurfaceKind::Sphere, "triangulate_sphere needs a sphere");
     std::vector<std::pair<K::Point_3, std::uint32_t>> input;
     input.reserve(points.size());
@@ -159,7 +156,8 @@ SurfaceMesh triangulate_sphere(const std::vector<Vec3>& points, const Surface& s
 
     SurfaceMesh mesh;
     mesh.periodic = false;
-    for (const Vec3& p : points) mesh.positions.push_back(p);
+    for (const Vec3& p : points)
+        mesh.positions.push_back(p);
 
     // The hull facets are the finite facets of the cells incident to the infinite vertex.
     std::vector<Delaunay3::Cell_handle> cells;
@@ -179,7 +177,8 @@ SurfaceMesh triangulate_sphere(const std::vector<Vec3>& points, const Surface& s
         faces.push_back(face);
     }
     sort_faces(faces);
-    for (const Face& f : faces) mesh.faces.push_back(f);
+    for (const Face& f : faces)
+        mesh.faces.push_back(f);
     mesh.rebuild_adjacency();
     if (mesh.num_boundary_edges() != 0 || mesh.euler_characteristic() != 2)
         throw NumericError("sphere triangulation is not closed (Euler characteristic "
@@ -188,4 +187,4 @@ SurfaceMesh triangulate_sphere(const std::vector<Vec3>& points, const Surface& s
     return mesh;
 }
 
-}  // namespace crackle::mesh
+} // namespace crackle::mesh

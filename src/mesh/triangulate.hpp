@@ -2,11 +2,11 @@
 /// @file Delaunay triangulation (Federl 2002, §5.2.2) with CGAL. The only part of crackle
 /// that includes CGAL (it takes ~12 s and ~1 GB to compile).
 
-#include <vector>
-
 #include "core/math.hpp"
 #include "mesh/surface.hpp"
 #include "mesh/surface_mesh.hpp"
+
+#include <vector>
 
 namespace crackle::mesh {
 
@@ -29,4 +29,4 @@ SurfaceMesh triangulate_periodic(const std::vector<Vec2>& points, const Surface&
 /// taken from CGAL::Delaunay_triangulation_3. Faces are oriented outward.
 SurfaceMesh triangulate_sphere(const std::vector<Vec3>& points, const Surface& surface);
 
-}  // namespace crackle::mesh
+} // namespace crackle::mesh

@@ -4,22 +4,23 @@
 
 namespace crackle::sim {
 
-const char* to_string(GrowthKind kind)
-{
+const char* to_string(GrowthKind kind) {
     switch (kind) {
-    case GrowthKind::None: return "none";
-    case GrowthKind::Isogonic: return "isogonic";
-    case GrowthKind::Anisotropic: return "anisotropic";
+    case GrowthKind::None:
+        return "none";
+    case GrowthKind::Isogonic:
+        return "isogonic";
+    case GrowthKind::Anisotropic:
+        return "anisotropic";
     }
     return "?";
 }
 
 GrowthField::GrowthField(const GrowthOptions& options, mesh::SurfaceKind surface)
-    : m_options(options), m_surface(surface)
-{
+    : m_options(options), m_surface(surface) {
     double r1 = options.r1, r2 = options.r2;
     if (options.kind == GrowthKind::None) r1 = r2 = 0.0;
-    if (options.kind == GrowthKind::Isogonic) r2 = r1;  // same rate in every direction (§3.3.1)
+    if (options.kind == GrowthKind::Isogonic) r2 = r1; // same rate in every direction (§3.3.1)
     m_options.r1 = r1;
     m_options.r2 = r2;
 
@@ -41,8 +42,7 @@ GrowthField::GrowthField(const GrowthOptions& options, mesh::SurfaceKind surface
     }
 }
 
-Vec3 GrowthField::velocity(const Vec3& x) const
-{
+Vec3 GrowthField::velocity(const Vec3& x) const {
     if (m_surface == mesh::SurfaceKind::Plane) {
         // Digest §1.4 closed form, with θ measured from x (θ = 90° − α):
         // v_x = ½[(r1 + r2)x + (r1 − r2)(x cos 2θ + y sin 2θ)]
@@ -57,4 +57,4 @@ Vec3 GrowthField::velocity(const Vec3& x) const
     return Vec3(m_rate_u * x.x(), m_rate_u * x.y(), m_rate_v * x.z());
 }
 
-}  // namespace crackle::sim
+} // namespace crackle::sim

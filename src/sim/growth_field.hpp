@@ -15,8 +15,8 @@ const char* to_string(GrowthKind kind);
 /// Parameters of the [growth] preset section.
 struct GrowthOptions {
     GrowthKind kind = GrowthKind::Anisotropic;
-    double r1 = 1.0;  ///< rate along the direction of maximum growth (1/time)
-    double r2 = 0.0;  ///< rate perpendicular to it, in the surface (1/time)
+    double r1 = 1.0; ///< rate along the direction of maximum growth (1/time)
+    double r2 = 0.0; ///< rate perpendicular to it, in the surface (1/time)
     /// Direction of r1 in texture space, degrees from the u axis. (The thesis measures α from
     /// the Y axis: α = 90° − angle_deg.) Cylinder and sphere take 0 (r1 around, r2 along the
     /// axis) or 90 (r1 along the axis).
@@ -48,8 +48,8 @@ public:
 private:
     GrowthOptions m_options;
     mesh::SurfaceKind m_surface;
-    double m_rate_u = 0, m_rate_v = 0;  // cylinder / sphere: rates around and along the axis
+    double m_rate_u = 0, m_rate_v = 0; // cylinder / sphere: rates around and along the axis
     Mat3 m_tensor = Mat3::Zero();
 };
 
-}  // namespace crackle::sim
+} // namespace crackle::sim

@@ -5,13 +5,16 @@
 
 namespace crackle::sim {
 
-const char* to_string(PatternKind kind)
-{
+const char* to_string(PatternKind kind) {
     switch (kind) {
-    case PatternKind::None: return "none";
-    case PatternKind::Gradient: return "gradient";
-    case PatternKind::Noise: return "noise";
-    case PatternKind::Image: return "image";
+    case PatternKind::None:
+        return "none";
+    case PatternKind::Gradient:
+        return "gradient";
+    case PatternKind::Noise:
+        return "noise";
+    case PatternKind::Image:
+        return "image";
     }
     return "?";
 }
@@ -21,8 +24,7 @@ constexpr int WAVES_PER_OCTAVE = 16;
 }
 
 SmoothNoise::SmoothNoise(const mesh::Surface& surface, double scale, int octaves, std::uint64_t seed)
-    : m_periodic(surface.periodic())
-{
+    : m_periodic(surface.periodic()) {
     CRACKLE_ASSERT(scale > 0 && octaves >= 1, "noise scale and octaves must be positive");
     Rng rng(seed, RngStream::Material);
     double amplitude = 1.0, sum_sq = 0.0;
@@ -50,11 +52,10 @@ SmoothNoise::SmoothNoise(const mesh::Surface& surface, double scale, int octaves
             sum_sq += 0.5 * sqr(amplitude);
         }
     }
-    m_norm = std::sqrt(sum_sq);  // standard deviation of the sum for random phases
+    m_norm = std::sqrt(sum_sq); // standard deviation of the sum for random phases
 }
 
-double SmoothNoise::operator()(const Vec3& p, const Vec2& uv) const
-{
+double SmoothNoise::operator()(const Vec3& p, const Vec2& uv) const {
     double sum = 0;
     for (const Wave& w : m_waves) {
         const double arg = m_periodic ? TWO_PI * (w.k.x() * uv.x() + w.k.y() * uv.y()) : w.k.dot(p);
@@ -66,14 +67,11 @@ double SmoothNoise::operator()(const Vec3& p, const Vec2& uv) const
 
 PropertyField::PropertyField(double base, const VariationOptions& options, const mesh::Surface& surface,
                              std::uint64_t seed, std::uint64_t stream)
-    : PropertyField(base, base, options, surface, seed, stream)
-{
-}
+    : PropertyField(base, base, options, surface, seed, stream) {}
 
 PropertyField::PropertyField(double base_start, double base_end, const VariationOptions& options,
                              const mesh::Surface& surface, std::uint64_t seed, std::uint64_t stream)
-    : m_base(base_start), m_base_end(base_end), m_options(options), m_kind(surface.kind())
-{
+    : m_base(base_start), m_base_end(base_end), m_options(options), m_kind(surface.kind()) {
     switch (options.pattern) {
     case PatternKind::Noise:
         m_noise = std::make_unique<SmoothNoise>(surface, options.scale, options.octaves, seed * 7919 + stream);
@@ -86,14 +84,16 @@ PropertyField::PropertyField(double base_start, double base_end, const Variation
         break;
     }
     case PatternKind::Gradient:
-    case PatternKind::None: m_sample_size = 0.05 * std::min(surface.period().x(), surface.period().y()); break;
+    case PatternKind::None:
+        m_sample_size = 0.05 * std::min(surface.period().x(), surface.period().y());
+        break;
     }
 }
 
-double PropertyField::pattern(const Vec3& p, const Vec2& uv) const
-{
+double PropertyField::pattern(const Vec3& p, const Vec2& uv) const {
     switch (m_options.pattern) {
-    case PatternKind::None: return 0.5;
+    case PatternKind::None:
+        return 0.5;
     case PatternKind::Gradient: {
         // Linear ramp across texture space along the direction, 0 at one corner, 1 at the other.
         const double th = m_options.angle_deg * DEG_TO_RAD;
@@ -101,7 +101,8 @@ double PropertyField::pattern(const Vec3& p, const Vec2& uv) const
         const double extent = std::abs(c) + std::abs(s);
         return clamp01(0.5 + ((uv.x() - 0.5) * c + (uv.y() - 0.5) * s) / extent);
     }
-    case PatternKind::Noise: return (*m_noise)(p, uv);
+    case PatternKind::Noise:
+        return (*m_noise)(p, uv);
     case PatternKind::Image: {
         // Image row 0 is the top of the texture (v = 1): the way it looks in a viewer.
         return m_options.image->sample_wrapped(uv.x(), 1.0 - uv.y());
@@ -110,29 +111,25 @@ double PropertyField::pattern(const Vec3& p, const Vec2& uv) const
     return 0.5;
 }
 
-double PropertyField::at(const Vec3& p, const Vec2& uv) const
-{
+double PropertyField::at(const Vec3& p, const Vec2& uv) const {
     const double v = m_base_end == m_base ? 0.0 : clamp01(uv.y() - std::floor(uv.y()));
     const double base = m_base + (m_base_end - m_base) * v;
     if (!varies()) return base;
     return base * (1.0 + m_options.amplitude * (2.0 * pattern(p, uv) - 1.0));
 }
 
-double PropertyField::min_value() const
-{
+double PropertyField::min_value() const {
     const double a = varies() ? m_options.amplitude : 0.0;
     return std::min(m_base, m_base_end) * (1.0 - a);
 }
 
-double PropertyField::max_value() const
-{
+double PropertyField::max_value() const {
     const double a = varies() ? m_options.amplitude : 0.0;
     return std::max(m_base, m_base_end) * (1.0 + a);
 }
 
 Vec2 face_point_uv(const mesh::SurfaceMesh& mesh, mesh::FaceId f, const mesh::Surface& surface, const Vec3& bary,
-                   Vec3* position)
-{
+                   Vec3* position) {
     if (surface.periodic()) {
         const Vec2 d = bary[0] * mesh.corner_domain(f, 0) + bary[1] * mesh.corner_domain(f, 1)
                        + bary[2] * mesh.corner_domain(f, 2);
@@ -146,8 +143,7 @@ Vec2 face_point_uv(const mesh::SurfaceMesh& mesh, mesh::FaceId f, const mesh::Su
     return surface.uv(p);
 }
 
-double PropertyField::face_average(const mesh::SurfaceMesh& mesh, mesh::FaceId f, const mesh::Surface& surface) const
-{
+double PropertyField::face_average(const mesh::SurfaceMesh& mesh, mesh::FaceId f, const mesh::Surface& surface) const {
     if (!varies() && m_base_end == m_base) return m_base;
     // Sub-triangles of the face: m × m per side, so each is smaller than the finest feature.
     const auto pts = mesh.face_positions(f);
@@ -172,4 +168,4 @@ double PropertyField::face_average(const mesh::SurfaceMesh& mesh, mesh::FaceId f
     return sum / count;
 }
 
-}  // namespace crackle::sim
+} // namespace crackle::sim

@@ -5,16 +5,16 @@
 /// or a grayscale image over texture space. An element takes the average over its area
 /// ("the average of all pixels that map inside the element").
 
+#include "core/image.hpp"
+#include "core/math.hpp"
+#include "mesh/surface.hpp"
+#include "mesh/surface_mesh.hpp"
+
 #include <array>
 #include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
-
-#include "core/image.hpp"
-#include "core/math.hpp"
-#include "mesh/surface.hpp"
-#include "mesh/surface_mesh.hpp"
 
 namespace crackle::sim {
 
@@ -25,11 +25,11 @@ const char* to_string(PatternKind kind);
 /// One [variation.<property>] preset section.
 struct VariationOptions {
     PatternKind pattern = PatternKind::None;
-    double amplitude = 0.3;  ///< a: the property spans p₀·(1 − a) … p₀·(1 + a)
-    double scale = 0.05;     ///< noise feature size (m)
-    int octaves = 3;         ///< noise octaves, each half the size and amplitude of the last
-    double angle_deg = 0.0;  ///< gradient direction in texture space, degrees from u
-    std::shared_ptr<const GrayImage> image;  ///< image pattern (white = 1)
+    double amplitude = 0.3;                 ///< a: the property spans p₀·(1 − a) … p₀·(1 + a)
+    double scale = 0.05;                    ///< noise feature size (m)
+    int octaves = 3;                        ///< noise octaves, each half the size and amplitude of the last
+    double angle_deg = 0.0;                 ///< gradient direction in texture space, degrees from u
+    std::shared_ptr<const GrayImage> image; ///< image pattern (white = 1)
 };
 
 /// Smooth noise g ∈ [0, 1] that tiles: on periodic surfaces a sum of cosines with integer
@@ -43,7 +43,7 @@ public:
 
 private:
     struct Wave {
-        Vec3 k;  ///< plane: (kx, ky) in cycles per period; sphere: wave vector (rad/m)
+        Vec3 k; ///< plane: (kx, ky) in cycles per period; sphere: wave vector (rad/m)
         double phase, amplitude;
     };
     bool m_periodic;
@@ -82,7 +82,7 @@ private:
     VariationOptions m_options;
     mesh::SurfaceKind m_kind;
     std::unique_ptr<SmoothNoise> m_noise;
-    double m_sample_size = 0;  ///< finest feature (m) the averaging must resolve
+    double m_sample_size = 0; ///< finest feature (m) the averaging must resolve
 };
 
 /// Texture coordinates of a point on a face given by barycentric weights: interpolated in
@@ -90,4 +90,4 @@ private:
 Vec2 face_point_uv(const mesh::SurfaceMesh& mesh, mesh::FaceId f, const mesh::Surface& surface, const Vec3& bary,
                    Vec3* position = nullptr);
 
-}  // namespace crackle::sim
+} // namespace crackle::sim

@@ -3,8 +3,7 @@
 namespace crackle::sim {
 
 WedgeNodes reference_shape(const std::array<Vec3, 3>& bottom0, const Vec3& n, double height, double s_top,
-                           double s_bot)
-{
+                           double s_bot) {
     const Vec3 centroid = (bottom0[0] + bottom0[1] + bottom0[2]) / 3.0;
     const double top_scale = 1.0 - s_top;
     const double bottom_scale = 1.0 - s_bot;
@@ -18,4 +17,4 @@ WedgeNodes reference_shape(const std::array<Vec3, 3>& bottom0, const Vec3& n, do
     return nodes;
 }
 
-}  // namespace crackle::sim
+} // namespace crackle::sim

@@ -4,9 +4,9 @@
 /// element's rest shape; the bottom nodes stay pinned to the background, and the mismatch is
 /// what stresses the layer.
 
-#include <array>
-
 #include "core/math.hpp"
+
+#include <array>
 
 namespace crackle::sim {
 
@@ -36,4 +36,4 @@ using WedgeNodes = std::array<Vec3, 6>;
 WedgeNodes reference_shape(const std::array<Vec3, 3>& bottom0, const Vec3& n, double height, double s_top,
                            double s_bot);
 
-}  // namespace crackle::sim
+} // namespace crackle::sim

@@ -4,8 +4,7 @@
 
 namespace crackle::sim {
 
-WedgeMesh extrude_wedges(const mesh::SurfaceMesh& mesh, const mesh::Surface& surface, const PropertyField& thickness)
-{
+WedgeMesh extrude_wedges(const mesh::SurfaceMesh& mesh, const mesh::Surface& surface, const PropertyField& thickness) {
     using mesh::face_id;
     const std::size_t nv = mesh.num_vertices();
     WedgeMesh w;
@@ -46,8 +45,7 @@ WedgeMesh extrude_wedges(const mesh::SurfaceMesh& mesh, const mesh::Surface& sur
     return w;
 }
 
-double WedgeMesh::wedge_volume(std::size_t wi, const mesh::SurfaceMesh& mesh) const
-{
+double WedgeMesh::wedge_volume(std::size_t wi, const mesh::SurfaceMesh& mesh) const {
     // Split the prism into three tetrahedra (bottom 0,1,2; top 3,4,5).
     const auto& wdg = wedges[wi];
     const auto f = mesh::face_id(wi);
@@ -63,4 +61,4 @@ double WedgeMesh::wedge_volume(std::size_t wi, const mesh::SurfaceMesh& mesh) co
     return tet(p[0], p[1], p[2], p[3]) + tet(p[1], p[2], p[3], p[4]) + tet(p[2], p[3], p[4], p[5]);
 }
 
-}  // namespace crackle::sim
+} // namespace crackle::sim

@@ -25,4 +25,4 @@ std::filesystem::path write_text(const std::filesystem::path& path, const std::s
 /// Reads a whole file ("" if missing).
 std::string slurp(const std::filesystem::path& path);
 
-}  // namespace crackle::test
+} // namespace crackle::test

@@ -9,8 +9,7 @@
 
 namespace crackle::test {
 
-inline mesh::Surface make_surface(mesh::SurfaceKind kind, double a = 1.0, double b = 1.0)
-{
+inline mesh::Surface make_surface(mesh::SurfaceKind kind, double a = 1.0, double b = 1.0) {
     mesh::SurfaceOptions o;
     o.kind = kind;
     o.size = Vec2(a, b);
@@ -18,12 +17,11 @@ inline mesh::Surface make_surface(mesh::SurfaceKind kind, double a = 1.0, double
 }
 
 /// Repelled points and their Delaunay triangulation with about `faces` triangles.
-inline mesh::SurfaceMesh make_mesh(const mesh::Surface& surface, std::size_t faces, std::uint64_t seed = 1)
-{
+inline mesh::SurfaceMesh make_mesh(const mesh::Surface& surface, std::size_t faces, std::uint64_t seed = 1) {
     Rng rng(seed, RngStream::Sampling);
     mesh::DiscretizeOptions o;
     o.elements = faces;
     return mesh::discretize(surface, o, {}, rng);
 }
 
-}  // namespace crackle::test
+} // namespace crackle::test

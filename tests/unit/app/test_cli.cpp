@@ -1,4 +1,6 @@
+#include "core/atomic_file.hpp"
 #include "core/json.hpp"
+#include "io/png.hpp"
 #include "support/cli_runner.hpp"
 
 #include <doctest/doctest.h>
@@ -10,121 +12,147 @@ using test::run_cli;
 namespace fs = std::filesystem;
 
 namespace {
-bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
-}  // namespace
+bool contains(const std::string& s, const std::string& part) {
+    return s.find(part) != std::string::npos;
+}
+} // namespace
 
 TEST_SUITE("app") {
-TEST_CASE("cli: --help and --version and a missing subcommand")
-{
-    const auto help = run_cli({"--help"});
-    CHECK(help.code == 0);
-    CHECK(contains(help.out, "presets"));
-    CHECK(contains(help.out, "mesh"));
-    const auto version = run_cli({"--version"});
-    CHECK(version.code == 0);
-    CHECK(contains(version.out, "crackle 0."));
-    const auto none = run_cli({});
-    CHECK(none.code == 2);
-    CHECK(contains(none.err, "error:"));
-    const auto unknown = run_cli({"frobnicate"});
-    CHECK(unknown.code == 2);
-}
+    TEST_CASE("cli: --help and --version and a missing subcommand") {
+        const auto help = run_cli({"--help"});
+        CHECK(help.code == 0);
+        CHECK(contains(help.out, "presets"));
+        CHECK(contains(help.out, "mesh"));
+        const auto version = run_cli({"--version"});
+        CHECK(version.code == 0);
+        CHECK(contains(version.out, "crackle 0."));
+        const auto none = run_cli({});
+        CHECK(none.code == 2);
+        CHECK(contains(none.err, "error:"));
+        const auto unknown = run_cli({"frobnicate"});
+        CHECK(unknown.code == 2);
+    }
 
-TEST_CASE("cli: presets list and show and doc")
-{
-    const auto list = run_cli({"presets", "list"});
-    CHECK(list.code == 0);
-    CHECK(contains(list.out, "bark"));
-    CHECK(contains(list.out, "mud/thickness-gradient"));
-    const auto show = run_cli({"presets", "show", "mud", "--seed", "9"});
-    CHECK(show.code == 0);
-    CHECK(contains(show.out, "[surface]"));
-    CHECK(contains(show.out, "kind = \"plane\""));
-    CHECK(contains(show.out, "seed = 9"));
-    CHECK(contains(show.out, "jitter = 0.25"));  // defaults included
-    const auto doc = run_cli({"presets", "doc"});
-    CHECK(doc.code == 0);
-    CHECK(contains(doc.out, "| `young_modulus` |"));
-}
+    TEST_CASE("cli: presets list and show and doc") {
+        const auto list = run_cli({"presets", "list"});
+        CHECK(list.code == 0);
+        CHECK(contains(list.out, "bark"));
+        CHECK(contains(list.out, "mud/thickness-gradient"));
+        const auto show = run_cli({"presets", "show", "mud", "--seed", "9"});
+        CHECK(show.code == 0);
+        CHECK(contains(show.out, "[surface]"));
+        CHECK(contains(show.out, "kind = \"plane\""));
+        CHECK(contains(show.out, "seed = 9"));
+        CHECK(contains(show.out, "jitter = 0.25")); // defaults included
+        const auto doc = run_cli({"presets", "doc"});
+        CHECK(doc.code == 0);
+        CHECK(contains(doc.out, "| `young_modulus` |"));
+    }
 
-TEST_CASE("cli: bad input exits with code 2 and 'error: <file>:<line>: <what> (<how to fix>)' and writes nothing")
-{
-    const auto dir = test::scratch_dir("cli-bad");
-    const auto preset = test::write_text(dir / "p.toml", "extends = \"mud\"\n[material]\npoisson_ratio = 0.7\n");
-    const auto r = run_cli({"mesh", preset.string(), "--obj", (dir / "out.obj").string(), "--json",
-                            (dir / "out.json").string()});
-    CHECK(r.code == 2);
-    const std::regex format(R"(^error: .*p\.toml:3: .+ \(.+\)\n$)");
-    CHECK_MESSAGE(std::regex_match(r.err, format), r.err);
-    CHECK_FALSE(fs::exists(dir / "out.obj"));
-    CHECK_FALSE(fs::exists(dir / "out.json"));
-    CHECK(r.out.empty());
+    TEST_CASE("cli: bad input exits with code 2 and 'error: <file>:<line>: <what> (<how to fix>)' and writes nothing") {
+        const auto dir = test::scratch_dir("cli-bad");
+        const auto preset = test::write_text(dir / "p.toml", "extends = \"mud\"\n[material]\npoisson_ratio = 0.7\n");
+        const auto r = run_cli(
+            {"mesh", preset.string(), "--obj", (dir / "out.obj").string(), "--json", (dir / "out.json").string()});
+        CHECK(r.code == 2);
+        const std::regex format(R"(^error: .*p\.toml:3: .+ \(.+\)\n$)");
+        CHECK_MESSAGE(std::regex_match(r.err, format), r.err);
+        CHECK_FALSE(fs::exists(dir / "out.obj"));
+        CHECK_FALSE(fs::exists(dir / "out.json"));
+        CHECK(r.out.empty());
 
-    const auto missing = run_cli({"mesh", (dir / "missing.toml").string()});
-    CHECK(missing.code == 2);
-    CHECK(contains(missing.err, "not found"));
-    const auto set = run_cli({"mesh", "mud", "--set", "simulation.elements=5000000"});
-    CHECK(set.code == 2);
-    CHECK(contains(set.err, "--set simulation.elements=5000000"));
-    const auto seed = run_cli({"mesh", "mud", "--seed", "-4"});
-    CHECK(seed.code == 2);
-}
+        const auto missing = run_cli({"mesh", (dir / "missing.toml").string()});
+        CHECK(missing.code == 2);
+        CHECK(contains(missing.err, "not found"));
+        const auto set = run_cli({"mesh", "mud", "--set", "simulation.elements=5000000"});
+        CHECK(set.code == 2);
+        CHECK(contains(set.err, "--set simulation.elements=5000000"));
+        const auto seed = run_cli({"mesh", "mud", "--seed", "-4"});
+        CHECK(seed.code == 2);
+    }
 
-TEST_CASE("cli: mesh works on all three surfaces and reports its figures as JSON")
-{
-    const auto dir = test::scratch_dir("cli-mesh");
-    for (const char* preset : {"bark", "mud", "fruit"}) {
-        CAPTURE(preset);
-        const fs::path json = dir / (std::string(preset) + ".json");
-        const auto r = run_cli({"mesh", preset, "--set", "simulation.elements=600", "--json", json.string()});
+    TEST_CASE("cli: mesh works on all three surfaces and reports its figures as JSON") {
+        const auto dir = test::scratch_dir("cli-mesh");
+        for (const char* preset : {"bark", "mud", "fruit"}) {
+            CAPTURE(preset);
+            const fs::path json = dir / (std::string(preset) + ".json");
+            const auto r = run_cli({"mesh", preset, "--set", "simulation.elements=600", "--json", json.string()});
+            REQUIRE(r.code == 0);
+            CHECK(contains(r.out, "min angle"));
+            const std::string report = test::slurp(json);
+            for (const char* field : {"\"nodes\"", "\"faces\"", "\"min_angle_deg\"", "\"mean_min_angle_deg\"",
+                                      "\"fraction_min_angle_below_10deg\"", "\"edge_length_m\"", "\"wall_seconds\"",
+                                      "\"sampling\"", "\"triangulation\"", "\"peak_memory_mb\"", "\"seed\": 1"})
+                CHECK_MESSAGE(contains(report, field), field);
+        }
+        const auto quiet = run_cli({"-q", "mesh", "mud", "--set", "simulation.elements=200"});
+        CHECK(quiet.code == 0);
+        CHECK(quiet.out.empty());
+    }
+
+    TEST_CASE("cli: the same preset and seed give bit-identical mesh output but another seed does not") {
+        const auto dir = test::scratch_dir("cli-determinism");
+        auto mesh_obj = [&](const std::string& preset, const std::string& seed, const std::string& name) {
+            const fs::path obj = dir / name;
+            const auto r = run_cli(
+                {"-q", "mesh", preset, "--seed", seed, "--set", "simulation.elements=1500", "--obj", obj.string()});
+            REQUIRE(r.code == 0);
+            return test::slurp(obj);
+        };
+        for (const char* preset : {"mud", "fruit", "bark"}) {
+            CAPTURE(preset);
+            const std::string a = mesh_obj(preset, "5", "a.obj");
+            const std::string b = mesh_obj(preset, "5", "b.obj");
+            const std::string c = mesh_obj(preset, "6", "c.obj");
+            CHECK(a.size() > 1000);
+            CHECK(a == b);
+            CHECK(a != c);
+        }
+    }
+
+    TEST_CASE("cli: every built-in preset meshes at tiny resolution") {
+        const auto list = run_cli({"presets", "list"});
+        std::istringstream is(list.out);
+        std::string line;
+        int count = 0;
+        while (std::getline(is, line)) {
+            const std::string name = line.substr(0, line.find(' '));
+            CAPTURE(name);
+            const auto r = run_cli({"-q", "mesh", name, "--set", "simulation.elements=300"});
+            CHECK(r.code == 0);
+            CHECK(r.err.empty());
+            ++count;
+        }
+        CHECK(count >= 4);
+    }
+
+    TEST_CASE("cli: a grayscale PNG next to the preset drives the layer thickness (§5.9)") {
+        const auto dir = test::scratch_dir("cli-image");
+        // A horizontal ramp: black at the left (u = 0), white at the right.
+        GrayImage img;
+        img.width = 32;
+        img.height = 8;
+        for (int y = 0; y < img.height; ++y)
+            for (int x = 0; x < img.width; ++x)
+                img.pixels.push_back(static_cast<float>(x / 31.0));
+        const auto png = io::encode_png_gray(img, 8);
+        write_file_atomically(dir / "maps" / "ramp.png",
+                              std::string_view(reinterpret_cast<const char*>(png.data()), png.size()));
+        const auto preset = test::write_text(dir / "p.toml", "extends = \"mud\"\n"
+                                                             "[variation.thickness]\n"
+                                                             "pattern = \"image\"\n"
+                                                             "amplitude = 0.5\n"
+                                                             "image = \"maps/ramp.png\"\n");
+        const auto r = run_cli(
+            {"mesh", preset.string(), "--set", "simulation.elements=800", "--json", (dir / "report.json").string()});
         REQUIRE(r.code == 0);
-        CHECK(contains(r.out, "min angle"));
-        const std::string report = test::slurp(json);
-        for (const char* field : {"\"nodes\"", "\"faces\"", "\"min_angle_deg\"", "\"mean_min_angle_deg\"",
-                                  "\"fraction_min_angle_below_10deg\"", "\"edge_length_m\"", "\"wall_seconds\"",
-                                  "\"sampling\"", "\"triangulation\"", "\"peak_memory_mb\"", "\"seed\": 1"})
-            CHECK_MESSAGE(contains(report, field), field);
+        // Thickness 1 cm · (1 ± 0.5): close to 0.5 cm on the dark side and 1.5 cm on the bright side.
+        const std::string report = test::slurp(dir / "report.json");
+        const auto thickness_min = std::stod(report.substr(report.find("\"min\"", report.find("thickness_m")) + 7));
+        const auto thickness_max = std::stod(report.substr(report.find("\"max\"", report.find("thickness_m")) + 7));
+        CHECK(thickness_min < 0.0065);
+        CHECK(thickness_min > 0.0049);
+        CHECK(thickness_max > 0.0135);
+        CHECK(thickness_max < 0.0151);
     }
-    const auto quiet = run_cli({"-q", "mesh", "mud", "--set", "simulation.elements=200"});
-    CHECK(quiet.code == 0);
-    CHECK(quiet.out.empty());
-}
-
-TEST_CASE("cli: the same preset and seed give bit-identical mesh output but another seed does not")
-{
-    const auto dir = test::scratch_dir("cli-determinism");
-    auto mesh_obj = [&](const std::string& preset, const std::string& seed, const std::string& name) {
-        const fs::path obj = dir / name;
-        const auto r = run_cli({"-q", "mesh", preset, "--seed", seed, "--set", "simulation.elements=1500", "--obj",
-                                obj.string()});
-        REQUIRE(r.code == 0);
-        return test::slurp(obj);
-    };
-    for (const char* preset : {"mud", "fruit", "bark"}) {
-        CAPTURE(preset);
-        const std::string a = mesh_obj(preset, "5", "a.obj");
-        const std::string b = mesh_obj(preset, "5", "b.obj");
-        const std::string c = mesh_obj(preset, "6", "c.obj");
-        CHECK(a.size() > 1000);
-        CHECK(a == b);
-        CHECK(a != c);
-    }
-}
-
-TEST_CASE("cli: every built-in preset meshes at tiny resolution")
-{
-    const auto list = run_cli({"presets", "list"});
-    std::istringstream is(list.out);
-    std::string line;
-    int count = 0;
-    while (std::getline(is, line)) {
-        const std::string name = line.substr(0, line.find(' '));
-        CAPTURE(name);
-        const auto r = run_cli({"-q", "mesh", name, "--set", "simulation.elements=300"});
-        CHECK(r.code == 0);
-        CHECK(r.err.empty());
-        ++count;
-    }
-    CHECK(count >= 4);
-}
 }
