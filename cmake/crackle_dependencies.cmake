@@ -36,3 +36,16 @@ if(CRACKLE_BUILD_TESTS)
     message(FATAL_ERROR "doctest not found: run scripts/setup (apt-get install doctest-dev)")
   endif()
 endif()
+
+# CHOLMOD (SuiteSparse 5.12 has no CMake package on Debian 12): library + headers.
+find_path(CHOLMOD_INCLUDE_DIR cholmod.h PATH_SUFFIXES suitesparse)
+find_library(CHOLMOD_LIBRARY cholmod)
+if(NOT CHOLMOD_INCLUDE_DIR OR NOT CHOLMOD_LIBRARY)
+  message(FATAL_ERROR "CHOLMOD not found: run scripts/setup (apt-get install libsuitesparse-dev)")
+endif()
+add_library(crackle_cholmod INTERFACE)
+add_library(SuiteSparse::CHOLMOD ALIAS crackle_cholmod)
+target_include_directories(crackle_cholmod SYSTEM INTERFACE ${CHOLMOD_INCLUDE_DIR})
+target_link_libraries(crackle_cholmod INTERFACE ${CHOLMOD_LIBRARY})
+
+find_package(OpenMP REQUIRED)

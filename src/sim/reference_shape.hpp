@@ -36,4 +36,13 @@ using WedgeNodes = std::array<Vec3, 6>;
 WedgeNodes reference_shape(const std::array<Vec3, 3>& bottom0, const Vec3& n, double height, double s_top,
                            double s_bot);
 
+/// The same construction with a normal and a height per corner: top corner i sits at
+/// h'_i·n_i above the scaled bottom corner. With the surface's vertex normals and the
+/// vertex thickness, neighbouring elements agree on every shared top node's rest position,
+/// so an unloaded layer on a curved or varying-thickness background is stress free (the
+/// thesis' per-face normal leaves a misfit there: digest §1.10 [I] "On curved backgrounds").
+/// With equal normals and heights it reduces to the thesis' form above.
+WedgeNodes reference_shape(const std::array<Vec3, 3>& bottom0, const std::array<Vec3, 3>& normals,
+                           const std::array<double, 3>& heights, double s_top, double s_bot);
+
 } // namespace crackle::sim

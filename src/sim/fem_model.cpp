@@ -1,0 +1,570 @@
+#include "sim/fem_model.hpp"
+
+#include "core/error.hpp"
+#include "core/log.hpp"
+#include "core/timer.hpp"
+#include "mesh/refine.hpp"
+
+#include <Eigen/CholmodSupport>
+#include <Eigen/IterativeLinearSolvers>
+
+#include <limits>
+#include <sstream>
+
+namespace crackle::sim {
+
+using mesh::face_id;
+using mesh::FaceId;
+using mesh::ix;
+using mesh::vertex_id;
+using mesh::VertexId;
+using SpMatR = Eigen::SparseMatrix<double, Eigen::RowMajor>;
+
+// === Linear solvers
+
+struct FemModel::Solver {
+    SolverKind kind = SolverKind::Cg;
+    Eigen::ConjugateGradient<SpMatR, Eigen::Lower | Eigen::Upper, Eigen::DiagonalPreconditioner<double>> cg;
+    Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> cholmod;
+    Eigen::SparseMatrix<double> lower;  // CHOLMOD wants column-major lower storage
+    bool analyzed = false;
+    bool factorized = false;
+
+    /// Called whenever K's values (or pattern) change.
+    void update(const SpMatR& K, bool pattern_changed)
+    {
+        if (kind == SolverKind::Cg) {
+            cg.compute(K);  // diagonal preconditioner: O(n)
+            return;
+        }
+        if (pattern_changed) analyzed = false;
+        factorized = false;
+        lower = K.triangularView<Eigen::Lower>();
+    }
+
+    void factorize()
+    {
+        if (factorized) return;
+        if (!analyzed) {
+            cholmod.analyzePattern(lower);
+            analyzed = true;
+        }
+        cholmod.factorize(lower);
+        if (cholmod.info() != Eigen::Success)
+            throw NumericError("sparse Cholesky factorization failed: the stiffness matrix is not positive definite");
+        factorized = true;
+    }
+};
+
+// === Construction
+
+FemModel::FemModel(mesh::SurfaceMesh mesh, const mesh::Surface& surface, const GrowthField& growth,
+                   const ShrinkageOptions& shrinkage, const LayerFields& fields, const FemOptions& options)
+    : m_mesh(std::move(mesh)), m_surface(surface), m_growth(growth), m_shrinkage(shrinkage), m_fields(fields),
+      m_options(options), m_solver(std::make_unique<Solver>())
+{
+    CRACKLE_ASSERT(fields.thickness && fields.young_modulus && fields.threshold_stress && fields.toughness,
+                   "every layer field must be given");
+    m_solver->kind = options.solver;
+    const std::size_t nv = m_mesh.num_vertices(), nf = m_mesh.num_faces();
+    m_normal.resize(nv);
+    m_thickness.resize(nv);
+    m_top.resize(nv);
+    m_rate.assign(nv, Vec3::Zero());
+    m_last_update.assign(nv, 0.0);
+    for (std::size_t v = 0; v < nv; ++v) init_vertex(v);
+    m_alive.assign(nf, 1);
+    m_num_alive = nf;
+    m_material.resize(nf);
+    m_k_top.resize(nf);
+    for (std::size_t f = 0; f < nf; ++f) init_element(f);
+    rebuild_incidence();
+    assemble();
+    m_solver->update(m_K, true);
+}
+
+FemModel::~FemModel() = default;
+
+void FemModel::init_vertex(std::size_t v)
+{
+    const Vec3& p = m_mesh.positions[vertex_id(v)];
+    const Vec2 uv = m_surface.periodic() ? m_surface.uv_of_domain(m_mesh.domain[vertex_id(v)]) : m_surface.uv(p);
+    m_normal[v] = m_surface.normal(p);
+    m_thickness[v] = m_fields.thickness->at(p, uv);
+    CRACKLE_ASSERT(m_thickness[v] > 0, "non-positive layer thickness at vertex " << v);
+    // Rest position: straight above the background at the current time.
+    const double s_bar = 0.5 * (m_shrinkage.top(m_time) + m_shrinkage.bottom(m_time));
+    m_top[v] = m_growth.position(p, m_time) + (1.0 - s_bar) * m_thickness[v] * m_normal[v];
+}
+
+void FemModel::init_element(std::size_t f)
+{
+    const FaceId id = face_id(f);
+    ElementMaterial& mat = m_material[f];
+    mat.young_modulus = m_fields.young_modulus->face_average(m_mesh, id, m_surface);
+    mat.threshold_stress = m_fields.threshold_stress->face_average(m_mesh, id, m_surface);
+    mat.toughness = m_fields.toughness->face_average(m_mesh, id, m_surface);
+    build_element_stiffness(f);
+}
+
+void FemModel::build_element_stiffness(std::size_t f)
+{
+    const wedge::Nodes q = reference_nodes_at(f, m_stiffness_s_top, m_stiffness_s_bot);
+    const wedge::Mat18 K = wedge::stiffness(q, m_material[f].young_modulus, m_fields.poisson_ratio);
+    m_k_top[f] = K.bottomRows<9>();
+}
+
+wedge::Nodes FemModel::reference_nodes_at(std::size_t f, double s_top, double s_bot) const
+{
+    const FaceId id = face_id(f);
+    const mesh::Face& face = m_mesh.faces[id];
+    std::array<Vec3, 3> bottom0, normals;
+    std::array<double, 3> heights{};
+    for (std::size_t k = 0; k < 3; ++k) {
+        bottom0[k] = m_mesh.corner_position(id, static_cast<int>(k));
+        normals[k] = m_normal[ix(face.v[k])];
+        heights[k] = m_thickness[ix(face.v[k])];
+    }
+    return reference_shape(bottom0, normals, heights, s_top, s_bot);
+}
+
+void FemModel::rebuild_incidence()
+{
+    const std::size_t nv = m_mesh.num_vertices();
+    m_incident.assign(nv, {});
+    m_alive_degree.assign(nv, 0);
+    for (std::size_t f = 0; f < m_mesh.num_faces(); ++f) {
+        const mesh::Face& face = m_mesh.faces[face_id(f)];
+        for (std::size_t k = 0; k < 3; ++k) {
+            auto& list = m_incident[ix(face.v[k])];
+            if (list.empty() || list.back() != f) list.push_back(static_cast<std::uint32_t>(f));
+            if (m_alive[f]) ++m_alive_degree[ix(face.v[k])];
+        }
+    }
+}
+
+// === Assembly (§5.4, Alg. 4, with the bottom DOFs eliminated)
+
+SpMatR FemModel::assemble_from_scratch() const
+{
+    const auto n = static_cast<Eigen::Index>(3 * m_mesh.num_vertices());
+    std::vector<Eigen::Triplet<double>> triplets;
+    triplets.reserve(81 * m_mesh.num_faces() + 3 * m_mesh.num_vertices());
+    for (std::size_t f = 0; f < m_mesh.num_faces(); ++f) {
+        const mesh::Face& face = m_mesh.faces[face_id(f)];
+        const bool on = m_alive[f] != 0;
+        for (std::size_t a = 0; a < 3; ++a)
+            for (std::size_t b = 0; b < 3; ++b) {
+                const auto ra = static_cast<Eigen::Index>(3 * ix(face.v[a]));
+                const auto cb = static_cast<Eigen::Index>(3 * ix(face.v[b]));
+                for (int i = 0; i < 3; ++i)
+                    for (int j = 0; j < 3; ++j)
+                        // Dead elements keep their (zero) entries so the pattern never shrinks.
+                        triplets.emplace_back(ra + i, cb + j,
+                                              on ? m_k_top[f](static_cast<Eigen::Index>(3 * a) + i,
+                                                              9 + static_cast<Eigen::Index>(3 * b) + j)
+                                                 : 0.0);
+            }
+    }
+    // A top node with no element left keeps its place: identity rows, zero right-hand side.
+    for (std::size_t v = 0; v < m_mesh.num_vertices(); ++v)
+        if (m_alive_degree[v] == 0)
+            for (int i = 0; i < 3; ++i)
+                triplets.emplace_back(static_cast<Eigen::Index>(3 * v) + i, static_cast<Eigen::Index>(3 * v) + i, 1.0);
+    SpMatR K(n, n);
+    K.setFromTriplets(triplets.begin(), triplets.end());
+    return K;
+}
+
+void FemModel::assemble()
+{
+    m_K = assemble_from_scratch();
+    m_stiffness_dirty_for_x = true;
+}
+
+void FemModel::set_block(std::size_t a, std::size_t b, const Mat3& block)
+{
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+            m_K.coeffRef(static_cast<Eigen::Index>(3 * a) + i, static_cast<Eigen::Index>(3 * b) + j) = block(i, j);
+}
+
+// === Time
+
+Vec3 FemModel::shift(const Vec2i& offset, double t) const
+{
+    if (offset == Vec2i::Zero()) return Vec3::Zero();
+    return m_growth.period_shift(m_surface.period_shift(offset), t);
+}
+
+Vec3 FemModel::shift_rate(const Vec2i& offset) const
+{
+    if (offset == Vec2i::Zero()) return Vec3::Zero();
+    return m_growth.tensor() * m_surface.period_shift(offset);
+}
+
+void FemModel::set_time(double t)
+{
+    m_time = t;
+    const double dt_top = std::abs(m_shrinkage.top(t) - m_stiffness_s_top);
+    const double dt_bot = std::abs(m_shrinkage.bottom(t) - m_stiffness_s_bot);
+    if (std::max(dt_top, dt_bot) > m_options.stiffness_refresh) {
+        m_stiffness_s_top = m_shrinkage.top(t);
+        m_stiffness_s_bot = m_shrinkage.bottom(t);
+        for (std::size_t f = 0; f < m_mesh.num_faces(); ++f) build_element_stiffness(f);
+        assemble();
+        m_solver->update(m_K, false);
+        log::debug("stiffness rebuilt at t = ", t, " (shrinkage top ", m_stiffness_s_top, ", bottom ",
+                   m_stiffness_s_bot, ")");
+    }
+}
+
+double FemModel::stiffness_horizon() const
+{
+    double horizon = std::numeric_limits<double>::infinity();
+    auto limit = [&](double rate, double s_ref) {
+        if (rate == 0) return;
+        // |rate·t − s_ref| reaches the refresh tolerance
+        const double t1 = (s_ref + m_options.stiffness_refresh) / rate;
+        const double t2 = (s_ref - m_options.stiffness_refresh) / rate;
+        for (double tc : {t1, t2})
+            if (tc > m_time) horizon = std::min(horizon, tc);
+    };
+    limit(m_shrinkage.top_rate, m_stiffness_s_top);
+    limit(m_shrinkage.bottom_rate, m_stiffness_s_bot);
+    return horizon;
+}
+
+// === Positions
+
+Vec3 FemModel::bottom_position(VertexId v) const { return m_growth.position(m_mesh.positions[v], m_time); }
+
+wedge::Nodes FemModel::current_nodes(FaceId f) const
+{
+    const mesh::Face& face = m_mesh.faces[f];
+    wedge::Nodes p;
+    for (std::size_t k = 0; k < 3; ++k) {
+        const Vec3 s = shift(face.offset[k], m_time);
+        p[k] = m_growth.position(m_mesh.positions[face.v[k]], m_time) + s;
+        p[k + 3] = m_top[ix(face.v[k])] + s;
+    }
+    return p;
+}
+
+wedge::Nodes FemModel::reference_nodes(FaceId f) const
+{
+    return reference_nodes_at(ix(f), m_shrinkage.top(m_time), m_shrinkage.bottom(m_time));
+}
+
+wedge::Vec18 FemModel::displacement(std::size_t f) const
+{
+    // q = P − Q, differences of nearby positions: accurate to round-off of the positions.
+    return wedge::flatten(current_nodes(face_id(f))) - wedge::flatten(reference_nodes(face_id(f)));
+}
+
+// === Equilibrium
+
+Eigen::VectorXd FemModel::residual() const
+{
+    // r = b − K x = −Σ_e (K_e (P_e − Q_e))_top
+    Eigen::VectorXd r = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(3 * m_mesh.num_vertices()));
+    for (std::size_t f = 0; f < m_mesh.num_faces(); ++f) {
+        if (!m_alive[f]) continue;
+        const Eigen::Matrix<double, 9, 1> force = m_k_top[f] * displacement(f);
+        const mesh::Face& face = m_mesh.faces[face_id(f)];
+        for (std::size_t k = 0; k < 3; ++k)
+            r.segment<3>(static_cast<Eigen::Index>(3 * ix(face.v[k]))) -= force.segment<3>(static_cast<Eigen::Index>(3 * k));
+    }
+    return r;
+}
+
+double FemModel::load_norm() const
+{
+    // The residual with every top node at rest straight above its bottom node: the size of
+    // the misfit forces that growth and shrinkage create.
+    const double s_bar = 0.5 * (m_shrinkage.top(m_time) + m_shrinkage.bottom(m_time));
+    Eigen::VectorXd r = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(3 * m_mesh.num_vertices()));
+    for (std::size_t f = 0; f < m_mesh.num_faces(); ++f) {
+        if (!m_alive[f]) continue;
+        const FaceId id = face_id(f);
+        wedge::Nodes p = current_nodes(id);
+        const mesh::Face& face = m_mesh.faces[id];
+        for (std::size_t k = 0; k < 3; ++k)
+            p[k + 3] = p[k] + (1.0 - s_bar) * m_thickness[ix(face.v[k])] * m_normal[ix(face.v[k])];
+        const Eigen::Matrix<double, 9, 1> force =
+            m_k_top[f] * (wedge::flatten(p) - wedge::flatten(reference_nodes(id)));
+        for (std::size_t k = 0; k < 3; ++k)
+            r.segment<3>(static_cast<Eigen::Index>(3 * ix(face.v[k]))) -= force.segment<3>(static_cast<Eigen::Index>(3 * k));
+    }
+    return r.norm();
+}
+
+SolveStats FemModel::solve(const Eigen::VectorXd& rhs, Eigen::VectorXd& x, double abs_tolerance)
+{
+    Timer timer;
+    SolveStats stats;
+    const double rhs_norm = rhs.norm();
+    x.setZero(rhs.size());
+    if (rhs_norm <= abs_tolerance) {
+        stats.seconds = timer.seconds();
+        return stats;
+    }
+    if (m_solver->kind == SolverKind::Direct) {
+        m_solver->factorize();
+        x = m_solver->cholmod.solve(rhs);
+        stats.residual = (rhs - m_K * x).norm() / rhs_norm;
+    } else {
+        auto& cg = m_solver->cg;
+        cg.setTolerance(abs_tolerance / rhs_norm);
+        cg.setMaxIterations(m_options.max_iterations);
+        x = cg.solveWithGuess(rhs, x);
+        stats.iterations = static_cast<int>(cg.iterations());
+        stats.residual = cg.error();
+        if (cg.info() != Eigen::Success) {
+            std::ostringstream os;
+            os << "conjugate gradient did not converge: " << cg.iterations() << " iterations, residual "
+               << cg.error() << " of the right-hand side (wanted " << abs_tolerance / rhs_norm << ") at t = "
+               << m_time << "; raise simulation.solver_max_iterations or use simulation.solver = \"direct\"";
+            throw NumericError(os.str());
+        }
+    }
+    if (!x.allFinite()) throw NumericError("the equilibrium solve produced NaN or infinity at t = " + std::to_string(m_time));
+    stats.seconds = timer.seconds();
+    return stats;
+}
+
+namespace {
+/// An absolute floor for the residual: forces that move nodes by 1e-13 of an element.
+double residual_floor(const SpMatR& K, const mesh::SurfaceMesh& mesh)
+{
+    const double k_max = K.diagonal().cwiseAbs().maxCoeff();
+    const double length = std::sqrt(mesh.total_area() / std::max<std::size_t>(mesh.num_faces(), 1));
+    return 1e-13 * k_max * length * std::sqrt(static_cast<double>(K.rows()));
+}
+}  // namespace
+
+SolveStats FemModel::relax()
+{
+    const Eigen::VectorXd r = residual();
+    const double tol = std::max(m_options.tolerance * load_norm(), residual_floor(m_K, m_mesh));
+    Eigen::VectorXd dx;
+    SolveStats stats = solve(r, dx, tol);
+    for (std::size_t v = 0; v < m_mesh.num_vertices(); ++v) {
+        const Vec3 d = dx.segment<3>(static_cast<Eigen::Index>(3 * v));
+        m_top[v] += d;
+        m_last_update[v] = d.norm();
+    }
+    m_stiffness_dirty_for_x = false;
+    return stats;
+}
+
+Eigen::VectorXd FemModel::load_rate() const
+{
+    // ḃ: the right-hand side's time derivative, −Σ_e (K_e (Ṗ_e − Q̇_e))_top with ẋ = 0.
+    Eigen::VectorXd b = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(3 * m_mesh.num_vertices()));
+    const double st = m_shrinkage.top(m_time), sb = m_shrinkage.bottom(m_time);
+    for (std::size_t f = 0; f < m_mesh.num_faces(); ++f) {
+        if (!m_alive[f]) continue;
+        const FaceId id = face_id(f);
+        const mesh::Face& face = m_mesh.faces[id];
+        wedge::Nodes p_dot;
+        for (std::size_t k = 0; k < 3; ++k) {
+            const Vec3 s_dot = shift_rate(face.offset[k]);
+            p_dot[k] = m_growth.velocity(m_mesh.positions[face.v[k]]) + s_dot;
+            p_dot[k + 3] = s_dot;
+        }
+        // Q is affine in (s_top, s_bot), which are linear in t: Q̇ = Q(s + rate) − Q(s).
+        const wedge::Vec18 q_dot = wedge::flatten(reference_nodes_at(f, st + m_shrinkage.top_rate, sb + m_shrinkage.bottom_rate))
+                                   - wedge::flatten(reference_nodes_at(f, st, sb));
+        const Eigen::Matrix<double, 9, 1> force = m_k_top[f] * (wedge::flatten(p_dot) - q_dot);
+        for (std::size_t k = 0; k < 3; ++k)
+            b.segment<3>(static_cast<Eigen::Index>(3 * ix(face.v[k]))) -= force.segment<3>(static_cast<Eigen::Index>(3 * k));
+    }
+    return b;
+}
+
+SolveStats FemModel::solve_rate()
+{
+    const Eigen::VectorXd b = load_rate();
+    Eigen::VectorXd rate(b.size());
+    for (std::size_t v = 0; v < m_mesh.num_vertices(); ++v) rate.segment<3>(static_cast<Eigen::Index>(3 * v)) = m_rate[v];
+    // Warm start: solve for the change of ẋ.
+    const Eigen::VectorXd r = b - m_K * rate;
+    const double tol = std::max(m_options.tolerance * b.norm(), residual_floor(m_K, m_mesh) * 1e-3);
+    Eigen::VectorXd d;
+    const SolveStats stats = solve(r, d, tol);
+    rate += d;
+    for (std::size_t v = 0; v < m_mesh.num_vertices(); ++v) m_rate[v] = rate.segment<3>(static_cast<Eigen::Index>(3 * v));
+    return stats;
+}
+
+void FemModel::advance_along_rate(double dt)
+{
+    for (std::size_t v = 0; v < m_mesh.num_vertices(); ++v)
+        if (m_alive_degree[v] > 0) m_top[v] += dt * m_rate[v];
+}
+
+// === Stress
+
+TopStress FemModel::top_stress(FaceId f) const
+{
+    const std::size_t fi = ix(f);
+    // B from the reference shape the stiffness was built with, so σ is consistent with K.
+    const wedge::Nodes ref = reference_nodes_at(fi, m_stiffness_s_top, m_stiffness_s_bot);
+    const wedge::Mat6 D = wedge::elasticity(m_material[fi].young_modulus, m_fields.poisson_ratio);
+    const wedge::Vec18 q = displacement(fi);
+    TopStress s;
+    for (std::size_t k = 0; k < 3; ++k) {
+        const auto& g = wedge::quadrature()[static_cast<std::size_t>(wedge::TOP_GAUSS_POINTS[k])];
+        s[k] = wedge::stress(ref, D, q, g.xi, g.eta, g.zeta);
+    }
+    return s;
+}
+
+TopStress FemModel::top_stress_rate(FaceId f) const
+{
+    const std::size_t fi = ix(f);
+    const wedge::Nodes ref = reference_nodes_at(fi, m_stiffness_s_top, m_stiffness_s_bot);
+    const wedge::Mat6 D = wedge::elasticity(m_material[fi].young_modulus, m_fields.poisson_ratio);
+    const mesh::Face& face = m_mesh.faces[f];
+    wedge::Nodes p_dot;
+    for (std::size_t k = 0; k < 3; ++k) {
+        const Vec3 s_dot = shift_rate(face.offset[k]);
+        p_dot[k] = m_growth.velocity(m_mesh.positions[face.v[k]]) + s_dot;
+        p_dot[k + 3] = m_rate[ix(face.v[k])] + s_dot;
+    }
+    const double st = m_shrinkage.top(m_time), sb = m_shrinkage.bottom(m_time);
+    const wedge::Vec18 q_dot = wedge::flatten(p_dot)
+                               - (wedge::flatten(reference_nodes_at(fi, st + m_shrinkage.top_rate, sb + m_shrinkage.bottom_rate))
+                                  - wedge::flatten(reference_nodes_at(fi, st, sb)));
+    TopStress s;
+    for (std::size_t k = 0; k < 3; ++k) {
+        const auto& g = wedge::quadrature()[static_cast<std::size_t>(wedge::TOP_GAUSS_POINTS[k])];
+        s[k] = wedge::stress(ref, D, q_dot, g.xi, g.eta, g.zeta);
+    }
+    return s;
+}
+
+double FemModel::stress_ratio(FaceId f) const
+{
+    double best = -std::numeric_limits<double>::infinity();
+    for (const wedge::Vec6& s : top_stress(f)) best = std::max(best, wedge::max_principal(s).value);
+    return best / m_material[ix(f)].threshold_stress;
+}
+
+double FemModel::strain_energy() const
+{
+    double e = 0;
+    for (std::size_t f = 0; f < m_mesh.num_faces(); ++f) {
+        if (!m_alive[f]) continue;
+        const wedge::Nodes ref = reference_nodes_at(f, m_stiffness_s_top, m_stiffness_s_bot);
+        const wedge::Vec18 q = displacement(f);
+        e += 0.5 * q.dot(wedge::stiffness(ref, m_material[f].young_modulus, m_fields.poisson_ratio) * q);
+    }
+    return e;
+}
+
+// === Topology
+
+void FemModel::remove_element(FaceId f)
+{
+    const std::size_t fi = ix(f);
+    CRACKLE_ASSERT(m_alive[fi], "element " << fi << " is already removed");
+    m_alive[fi] = 0;
+    --m_num_alive;
+    const mesh::Face& face = m_mesh.faces[f];
+    for (VertexId v : face.v) --m_alive_degree[ix(v)];
+    // Alg. 7: every block (a, b) between nodes of the removed element is rebuilt from the
+    // alive elements that still share both nodes: exact, no subtraction round-off (F12).
+    for (std::size_t a = 0; a < 3; ++a)
+        for (std::size_t b = 0; b < 3; ++b) {
+            const std::size_t va = ix(face.v[a]), vb = ix(face.v[b]);
+            Mat3 block = Mat3::Zero();
+            for (std::uint32_t g : m_incident[va]) {
+                if (!m_alive[g]) continue;
+                const mesh::Face& other = m_mesh.faces[face_id(g)];
+                for (std::size_t i = 0; i < 3; ++i)
+                    for (std::size_t j = 0; j < 3; ++j)
+                        if (ix(other.v[i]) == va && ix(other.v[j]) == vb)
+                            block += m_k_top[g].block<3, 3>(static_cast<Eigen::Index>(3 * i),
+                                                            9 + static_cast<Eigen::Index>(3 * j));
+            }
+            if (va == vb && m_alive_degree[va] == 0) block = Mat3::Identity();
+            set_block(va, vb, block);
+        }
+    m_solver->update(m_K, false);
+    m_stiffness_dirty_for_x = true;
+}
+
+double FemModel::element_size(FaceId f) const
+{
+    const auto p = m_mesh.face_positions(f);
+    return std::max({(p[1] - p[0]).norm(), (p[2] - p[1]).norm(), (p[0] - p[2]).norm()});
+}
+
+std::vector<FaceId> FemModel::subdivide(FaceId f)
+{
+    const mesh::MidpointRule where =
+        m_surface.periodic()
+            ? mesh::domain_midpoint([this](const Vec2& d) { return m_surface.position(d); })
+            : mesh::projected_midpoint([this](const Vec3& p) { return m_surface.project(p); });
+    // Each new vertex's top node starts at the midpoint of the split edge's top nodes, worked
+    // out in the split face's periodic frame before the split happens.
+    std::vector<std::pair<std::size_t, std::pair<Vec3, Vec3>>> new_tops;  // vertex, (top, rate)
+    const mesh::MidpointRule rule = [&](const mesh::SurfaceMesh& m, FaceId face, int edge) {
+        const mesh::NewVertex nv = where(m, face, edge);
+        const mesh::Face& fc = m.faces[face];
+        const auto a = static_cast<std::size_t>(edge), b = static_cast<std::size_t>((edge + 1) % 3);
+        Vec2i om = Vec2i::Zero();
+        if (m.periodic) {
+            const Vec2 mid = 0.5 * (m.corner_domain(face, edge) + m.corner_domain(face, (edge + 1) % 3));
+            om = Vec2i(static_cast<int>(std::lround((mid.x() - nv.domain.x()) / m.period.x())),
+                       static_cast<int>(std::lround((mid.y() - nv.domain.y()) / m.period.y())));
+        }
+        const Vec3 top = 0.5 * (m_top[ix(fc.v[a])] + shift(fc.offset[a], m_time) + m_top[ix(fc.v[b])]
+                                + shift(fc.offset[b], m_time))
+                         - shift(om, m_time);
+        const Vec3 rate = 0.5 * (m_rate[ix(fc.v[a])] + m_rate[ix(fc.v[b])]);
+        new_tops.push_back({m.num_vertices(), {top, rate}});
+        return nv;
+    };
+    std::vector<mesh::EdgeSplit> splits;
+    mesh::rivara_bisect(m_mesh, f, rule, splits);
+    CRACKLE_ASSERT(new_tops.size() == splits.size(), "one new vertex per split");
+
+    std::vector<FaceId> touched;
+    for (std::size_t i = 0; i < splits.size(); ++i) {
+        const mesh::EdgeSplit& split = splits[i];
+        const std::size_t v = ix(split.vertex);
+        CRACKLE_ASSERT(new_tops[i].first == v, "split order and vertex ids disagree");
+        m_normal.emplace_back();
+        m_thickness.emplace_back();
+        m_top.emplace_back();
+        m_rate.emplace_back(Vec3::Zero());
+        m_last_update.emplace_back(0.0);
+        init_vertex(v);
+        m_top[v] = new_tops[i].second.first;
+        m_rate[v] = new_tops[i].second.second;
+        // Children: the kept id keeps the parent's status, the new id copies it.
+        for (const auto& [kid, nid] : split.children) {
+            const char status = m_alive[ix(kid)];
+            m_alive.push_back(status);
+            if (status) ++m_num_alive;
+            m_material.emplace_back();
+            m_k_top.emplace_back();
+            touched.push_back(kid);
+            touched.push_back(nid);
+        }
+    }
+    // Material (§5.9: recomputed whenever elements are created) and stiffness of every face
+    // the refinement touched, once it is finished.
+    std::sort(touched.begin(), touched.end());
+    touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
+    for (FaceId t : touched) init_element(ix(t));
+    rebuild_incidence();
+    assemble();
+    m_solver->update(m_K, true);
+    return touched;
+}
+
+}  // namespace crackle::sim

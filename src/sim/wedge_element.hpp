@@ -1,0 +1,77 @@
+#pragma once
+/// @file The 6-node wedge (prism) element of Federl 2002, §5.3 (digest §3.4): shape
+/// functions, Jacobian, strain–displacement matrix B, isotropic elasticity D, the 9-point
+/// quadrature of Table 5.1 with correctly normalised weights, the element stiffness K_e and
+/// stresses. Nodes 0–2 are the bottom face (thesis nodes 1–3), 3–5 the top face (4–6).
+/// Isoparametric coordinates: (ξ, η) on the unit triangle, ζ ∈ [−1, 1] through the thickness.
+
+#include <array>
+
+#include "core/math.hpp"
+
+namespace crackle::sim::wedge {
+
+using Nodes = std::array<Vec3, 6>;          ///< node positions, bottom 0..2, top 3..5
+using Vec6 = Eigen::Matrix<double, 6, 1>;   ///< Voigt vector [xx, yy, zz, yz, zx, xy]
+using Vec18 = Eigen::Matrix<double, 18, 1>; ///< nodal vector [x0 y0 z0 … x5 y5 z5]
+using Mat6 = Eigen::Matrix<double, 6, 6>;
+using Mat6x18 = Eigen::Matrix<double, 6, 18>;
+using Mat18 = Eigen::Matrix<double, 18, 18>;
+using Mat3x6 = Eigen::Matrix<double, 3, 6>;
+
+struct GaussPoint {
+    double xi, eta, zeta, weight;
+};
+
+/// Table 5.1: 3-point triangle rule × 3-point Gauss–Legendre in ζ. The printed weights
+/// (1/3 × {5/9, 8/9, 5/9}) sum to 2 although the reference wedge has volume 1 (triangle
+/// area ½ × ζ-length 2): used as printed they double K_e, forces and strain energy (digest
+/// §3.4 pitfall). These weights are ½ of the table's, so Σ w_g·det J_g is the volume.
+/// Points 0–2 lie nearest the top face (ζ = +√(3/5)), 6–8 nearest the bottom.
+const std::array<GaussPoint, 9>& quadrature();
+
+/// The weights as printed in Table 5.1 (for the test that documents the erratum).
+constexpr double TABLE_5_1_WEIGHT_SUM = 2.0;
+
+/// Indices of the Gauss points nearest the top face, where cracks start (§5.6.1).
+constexpr std::array<int, 3> TOP_GAUSS_POINTS = {0, 1, 2};
+
+/// N_1..N_6 at (ξ, η, ζ) (Eqs. 5.9–5.14).
+Vec6 shape_functions(double xi, double eta, double zeta);
+/// ∂N/∂(ξ, η, ζ), 3 × 6 (Eq. 5.24).
+Mat3x6 shape_derivatives(double xi, double eta, double zeta);
+
+/// J = [N_ξηζ]·[Q]ᵀ, J_ij = ∂x_j/∂ξ_i (Eqs. 5.27–5.30).
+Mat3 jacobian(const Nodes& nodes, const Mat3x6& dN);
+
+/// B (6 × 18) at a point, rows (εx, εy, εz, γyz, γzx, γxy) with engineering shears
+/// (Eqs. 5.33–5.37). Writes det J when asked.
+Mat6x18 strain_matrix(const Nodes& nodes, double xi, double eta, double zeta, double* det_j = nullptr);
+
+/// Isotropic D (Eq. 5.32).
+Mat6 elasticity(double young, double poisson);
+
+/// K_e = Σ_g w_g Bᵀ D B det J (Eqs. 5.25–5.26, 5.42), 18 × 18, symmetric PSD with the six
+/// rigid-body modes as its null space.
+Mat18 stiffness(const Nodes& nodes, double young, double poisson);
+
+/// Σ_g w_g det J_g: the element volume (exact for wedges with parallel triangles).
+double volume(const Nodes& nodes);
+
+/// σ = D·B·q at a point (Eq. 5.53); q = current − reference nodal positions.
+Vec6 stress(const Nodes& reference, const Mat6& D, const Vec18& q, double xi, double eta, double zeta);
+
+/// The symmetric 3 × 3 tensor of a Voigt stress vector.
+Mat3 tensor(const Vec6& s);
+
+/// Largest principal stress and its unit direction (tension positive).
+struct Principal {
+    double value;
+    Vec3 direction;
+};
+Principal max_principal(const Vec6& s);
+
+/// Stacks 6 nodal positions into an 18-vector.
+Vec18 flatten(const Nodes& nodes);
+
+}  // namespace crackle::sim::wedge

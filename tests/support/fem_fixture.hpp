@@ -1,0 +1,41 @@
+#pragma once
+/// @file A small FEM layer for tests: surface, fields and model in one object.
+
+#include <memory>
+
+#include "sim/fem_model.hpp"
+#include "support/mesh_fixtures.hpp"
+
+namespace crackle::test {
+
+struct LayerSpec {
+    mesh::SurfaceKind kind = mesh::SurfaceKind::Plane;
+    Vec2 size = Vec2(0.2, 0.2);
+    std::size_t elements = 300;
+    double young = 1e9, poisson = 0.3, threshold = 1e5, toughness = 100, thickness = 0.01;
+    sim::GrowthOptions growth = {sim::GrowthKind::None, 0.0, 0.0, 0.0};
+    sim::ShrinkageOptions shrinkage;
+    sim::VariationOptions young_variation;
+    sim::FemOptions fem;
+    std::uint64_t seed = 1;
+};
+
+struct Layer {
+    explicit Layer(const LayerSpec& s)
+        : spec(s), surface(make_surface(s.kind, s.size.x(), s.size.y())),
+          thickness(s.thickness, sim::VariationOptions{}, surface, s.seed, 1),
+          young(s.young, s.young_variation, surface, s.seed, 2),
+          threshold(s.threshold, sim::VariationOptions{}, surface, s.seed, 3),
+          toughness(s.toughness, sim::VariationOptions{}, surface, s.seed, 4)
+    {
+        sim::LayerFields fields{&thickness, &young, &threshold, &toughness, s.poisson};
+        model = std::make_unique<sim::FemModel>(make_mesh(surface, s.elements, s.seed), surface,
+                                                sim::GrowthField(s.growth, s.kind), s.shrinkage, fields, s.fem);
+    }
+    LayerSpec spec;
+    mesh::Surface surface;
+    sim::PropertyField thickness, young, threshold, toughness;
+    std::unique_ptr<sim::FemModel> model;
+};
+
+}  // namespace crackle::test
