@@ -57,6 +57,20 @@ int run(int argc, const char* const* argv, std::ostream& out, std::ostream& err)
     mesh->add_option("--json", mesh_args.json_path, "Write the report as JSON");
     add_preset_options(mesh, mesh_args.preset);
 
+    // === simulate
+    SimulateArgs sim_args;
+    sim_args.preset.name_or_path = "bark";
+    CLI::App* simulate = app.add_subcommand("simulate", "Grow and crack a preset's surface; report the crack pattern");
+    simulate->add_option("PRESET", sim_args.preset.name_or_path, "Built-in preset name or .toml path")
+        ->capture_default_str();
+    simulate->add_option("--json", sim_args.json_path, "Write the report (pattern statistics, timings) as JSON");
+    simulate->add_option("--events", sim_args.events_path, "Write the fracture events as CSV");
+    simulate->add_option("--png", sim_args.png_path, "Write a quick preview of the crack pattern in texture space");
+    simulate->add_option("--png-size", sim_args.png_size, "Preview size in pixels")
+        ->check(CLI::Range(16, 8192))
+        ->capture_default_str();
+    add_preset_options(simulate, sim_args.preset);
+
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {
@@ -91,6 +105,8 @@ int run(int argc, const char* const* argv, std::ostream& out, std::ostream& err)
             code = presets_doc(out);
         else if (mesh->parsed())
             code = mesh_command(mesh_args, global, out);
+        else if (simulate->parsed())
+            code = simulate_command(sim_args, global, out);
     } catch (const InputError& e) {
         err << "error: " << e.what() << "\n";
         code = 2;

@@ -5,6 +5,9 @@
 #include "core/json.hpp"
 #include "core/log.hpp"
 #include "core/timer.hpp"
+#include "fracture/preview.hpp"
+#include "fracture/statistics.hpp"
+#include "io/png.hpp"
 #include "io/obj.hpp"
 #include "mesh/surface_mesh.hpp"
 #include "sim/wedge_mesh.hpp"
@@ -119,3 +122,128 @@ int mesh_command(const MeshArgs& args, const GlobalOptions& global, std::ostream
 }
 
 } // namespace crackle::app
+
+namespace crackle::app {
+
+namespace {
+
+std::string events_csv(const fracture::CrackPattern& p)
+{
+    std::string csv = "time,x,y,z,u,v,kind,ratio\n";
+    char buf[256];
+    for (const fracture::Event& e : p.events) {
+        const Vec2 uv = p.surface.periodic() ? p.surface.uv_of_domain(Vec2(e.position.x(), e.position.y()))
+                                             : p.surface.uv(e.position);
+        // On the cylinder the position is 3D; take uv from the surface.
+        const Vec2 uvc = p.surface.kind() == mesh::SurfaceKind::Cylinder ? p.surface.uv(e.position) : uv;
+        std::snprintf(buf, sizeof buf, "%.9g,%.9g,%.9g,%.9g,%.6f,%.6f,%s,%.6f\n", e.time, e.position.x(), e.position.y(),
+                      e.position.z(), uvc.x(), uvc.y(), e.kind.c_str(), e.ratio);
+        csv += buf;
+    }
+    return csv;
+}
+
+}  // namespace
+
+int simulate_command(const SimulateArgs& args, const GlobalOptions& global, std::ostream& out)
+{
+    Timer total;
+    StepTimes times;
+    Timer step;
+    const io::Preset preset = io::load_preset(args.preset);
+    require_available_method(preset);
+    const std::unique_ptr<Scene> scene = make_scene(preset);
+    times.emplace_back("preset", step.seconds());
+
+    mesh::SurfaceMesh surface_mesh = discretize_scene(*scene, &times);
+    const std::size_t elements_initial = surface_mesh.num_faces();
+
+    step.reset();
+    sim::FemModel model(std::move(surface_mesh), scene->surface, scene->growth, scene->shrinkage, layer_fields(*scene),
+                        fem_options(preset));
+    times.emplace_back("assembly", step.seconds());
+
+    step.reset();
+    Rng rng(scene->seed, RngStream::Fracture);
+    fracture::RunStats run;
+    const fracture::CrackPattern pattern = fracture::run_fem_remove(model, fracture_options(preset), rng, &run);
+    times.emplace_back("fracture", step.seconds());
+    times.emplace_back("fracture.solve", run.solve_seconds);
+    times.emplace_back("fracture.stress", run.stress_seconds);
+    times.emplace_back("fracture.bookkeeping", std::max(0.0, run.total_seconds - run.solve_seconds - run.stress_seconds));
+
+    step.reset();
+    const fracture::PatternStatistics st = fracture::pattern_statistics(pattern);
+    times.emplace_back("statistics", step.seconds());
+
+    AtomicOutput output;
+    if (!args.events_path.empty()) output.write(args.events_path, events_csv(pattern));
+    if (!args.png_path.empty()) {
+        const fracture::RgbImage img = fracture::preview_image(pattern, args.png_size);
+        output.write(args.png_path, io::encode_png_rgb8(img.width, img.height, 3, img.pixels));
+    }
+    times.emplace_back("total", total.seconds());
+
+    Json report = Json::object();
+    report["command"] = "simulate";
+    report["preset"] = preset.name;
+    report["surface"] = mesh::to_string(scene->surface.kind());
+    report["method"] = pattern.method;
+    report["seed"] = static_cast<long long>(scene->seed);
+    report["elements_initial"] = elements_initial;
+    report["elements_final"] = model.num_alive();
+    report["nodes"] = 2 * model.mesh().num_vertices();
+    report["fracture_events"] = pattern.events.size();
+    report["fragments"] = st.fragments;
+    report["mean_fragment_area"] = st.mean_fragment_area;
+    report["crack_length_per_area"] = st.crack_length_per_area;
+    report["anisotropy"] = st.anisotropy;
+    report["dominant_angle_deg"] = st.dominant_angle_deg;
+    report["psi6"] = st.psi6;
+    report["t_junction_fraction"] = st.t_junction_fraction;
+    report["y_junction_fraction"] = st.y_junction_fraction;
+    report["min_angle_deg"] = st.min_angle_deg;
+    Json wall = Json::object();
+    for (const auto& [name, seconds] : times) wall[name] = seconds;
+    report["wall_seconds"] = wall;
+    report["peak_memory_mb"] = peak_memory_mb();
+    // Beyond the fixed fields: details for researchers.
+    report["final_time"] = pattern.final_time;
+    report["events_capped"] = pattern.events_capped;
+    report["removals"] = run.removals;
+    report["subdivisions"] = run.subdivisions;
+    report["time_steps"] = run.time_steps;
+    report["solves"] = run.solves;
+    report["solver_iterations"] = run.solver_iterations;
+    report["local_solves"] = run.local_solves;
+    report["local_mean_nodes"] = run.local_solves ? double(run.local_nodes) / double(run.local_solves) : 0.0;
+    report["local_fallbacks"] = run.local_fallbacks;
+    report["crack_length"] = st.crack_length;
+    report["junctions"] = st.junctions;
+    report["axial_fraction"] = st.axial_fraction;
+    report["total_area"] = st.total_area;
+    if (!args.json_path.empty()) output.write(args.json_path, report.dump());
+    output.commit();
+
+    if (!global.quiet) {
+        out << "crackle simulate: " << preset.name << " (" << mesh::to_string(scene->surface.kind()) << ", "
+            << pattern.method << "), seed " << scene->seed << "\n";
+        out << "  elements     " << elements_initial << " initial, " << model.num_alive() << " intact at the end ("
+            << run.removals << " removed, " << run.subdivisions << " subdivisions)\n";
+        out << "  time         " << fmt("%.4g", pattern.final_time) << " of " << fmt("%.4g", preset.number("simulation.duration"))
+            << (pattern.events_capped ? " (stopped at simulation.max_events)" : "") << "; " << run.time_steps
+            << " time steps, " << run.solves << " solves\n";
+        out << "  fragments    " << st.fragments << ", mean area " << fmt("%.4g", st.mean_fragment_area * 1e4) << " cm2\n";
+        out << "  cracks       " << fmt("%.4g", st.crack_length_per_area) << " m/m2, anisotropy "
+            << fmt("%.3f", st.anisotropy) << " at " << fmt("%.1f", st.dominant_angle_deg) << " deg, psi6 "
+            << fmt("%.3f", st.psi6) << "\n";
+        out << "  junctions    " << st.junctions << " (T " << fmt("%.2f", st.t_junction_fraction) << ", Y "
+            << fmt("%.2f", st.y_junction_fraction) << ")\n";
+        out << "  wall time   ";
+        for (const auto& [name, seconds] : times) out << " " << name << " " << fmt("%.3f", seconds) << " s;";
+        out << "\n  peak memory  " << fmt("%.1f", peak_memory_mb()) << " MiB\n";
+    }
+    return 0;
+}
+
+}  // namespace crackle::app

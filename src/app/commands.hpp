@@ -27,4 +27,15 @@ struct MeshArgs {
 /// `crackle mesh`: discretize the preset's surface and report mesh figures.
 int mesh_command(const MeshArgs& args, const GlobalOptions& global, std::ostream& out);
 
+struct SimulateArgs {
+    io::PresetRequest preset;
+    std::string json_path;    ///< report (design.md field names)
+    std::string events_path;  ///< CSV of fracture events
+    std::string png_path;     ///< quick preview of the crack pattern in texture space
+    int png_size = 512;
+};
+
+/// `crackle simulate`: grow and crack the preset's surface, report the pattern statistics.
+int simulate_command(const SimulateArgs& args, const GlobalOptions& global, std::ostream& out);
+
 } // namespace crackle::app

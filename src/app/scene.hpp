@@ -2,7 +2,9 @@
 /// @file A preset turned into the pipeline's typed inputs: the surface, its growth field,
 /// material shrinkage and property fields, and the discretization options.
 
+#include "fracture/fem_remove.hpp"
 #include "io/preset.hpp"
+#include "sim/fem_model.hpp"
 #include "mesh/discretize.hpp"
 #include "mesh/surface.hpp"
 #include "sim/growth_field.hpp"
@@ -37,5 +39,15 @@ std::unique_ptr<Scene> make_scene(const io::Preset& preset);
 
 /// Discretizes the scene's surface (§5.2), density following thickness when asked.
 mesh::SurfaceMesh discretize_scene(const Scene& scene, StepTimes* times);
+
+/// [simulation] keys of the equilibrium solver.
+sim::FemOptions fem_options(const io::Preset& preset);
+/// [simulation] keys of the fracture loop.
+fracture::FractureOptions fracture_options(const io::Preset& preset);
+/// The scene's layer fields for the FEM model (pointers into `scene`).
+sim::LayerFields layer_fields(const Scene& scene);
+
+/// Throws InputError (naming the preset line) when simulation.method is not available.
+void require_available_method(const io::Preset& preset);
 
 } // namespace crackle::app

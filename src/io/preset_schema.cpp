@@ -130,7 +130,7 @@ std::vector<KeySpec> build_schema() {
                          "\"image\"."));
     }
     // === [simulation]
-    s.push_back(choice("simulation", "method", "fem-split", {"mass-spring", "fem-remove", "fem-split", "graph-fem"},
+    s.push_back(choice("simulation", "method", "fem-remove", {"mass-spring", "fem-remove", "fem-split", "graph-fem"},
                        "Fracture model: mass-spring (fast baseline, lattice-biased), fem-remove (element removal), "
                        "fem-split (element splitting, the quality default), graph-fem (remeshing-free)."));
     s.push_back(integer("simulation", "elements", 8000, "", 32, 2.0e6,
@@ -147,6 +147,19 @@ std::vector<KeySpec> build_schema() {
                        "0.2–0.3 gives semi-random triangles."));
     s.push_back(integer("simulation", "repulsion_iterations", 100, "", 0, 1000,
                         "Particle-repulsion iterations at most (0 = uniformly random points, poor triangles)."));
+    s.push_back(number("simulation", "min_element_size", 0.0, "m", 0.0, 1000.0,
+                       "Dynamic subdivision (§5.6.4): an element over threshold but longer than this is "
+                       "subdivided instead of cracked, so fine elements appear only where cracks run. 0 = off "
+                       "(every element starts at its final size)."));
+    s.push_back(choice("simulation", "solver", "cg", {"cg", "direct"},
+                       "Equilibrium solver: cg = conjugate gradient warm-started from the last solution (the "
+                       "default, fastest per crack event); direct = sparse Cholesky (CHOLMOD)."));
+    s.push_back(number("simulation", "solver_tolerance", 1e-9, "", 1e-14, 1e-3,
+                       "CG residual relative to the growth/shrinkage load. Looser = faster, less exact stresses."));
+    s.push_back(integer("simulation", "solver_max_iterations", 20000, "", 1, 1.0e7,
+                        "CG iterations before the run fails with exit code 3."));
+    s.push_back(integer("simulation", "max_events", 1000000, "", 1, 1.0e8,
+                        "Stop after this many fracture events (a safety net; the report says when it was hit)."));
     s.push_back(choice("simulation", "density", "uniform", {"uniform", "thickness"},
                        "Element density: uniform, or thickness = element size proportional to the local layer "
                        "thickness (fine elements where cracks are dense)."));

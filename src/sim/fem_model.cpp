@@ -7,6 +7,7 @@
 
 #include <Eigen/CholmodSupport>
 #include <Eigen/IterativeLinearSolvers>
+#include <Eigen/SparseCholesky>
 
 #include <limits>
 #include <sstream>
@@ -19,6 +20,16 @@ using mesh::ix;
 using mesh::vertex_id;
 using mesh::VertexId;
 using SpMatR = Eigen::SparseMatrix<double, Eigen::RowMajor>;
+
+namespace {
+/// An absolute floor for the residual: forces that move nodes by 1e-13 of an element.
+double residual_floor(const SpMatR& K, const mesh::SurfaceMesh& mesh)
+{
+    const double k_max = K.diagonal().cwiseAbs().maxCoeff();
+    const double length = std::sqrt(mesh.total_area() / static_cast<double>(std::max<std::size_t>(mesh.num_faces(), 1)));
+    return 1e-13 * k_max * length * std::sqrt(static_cast<double>(K.rows()));
+}
+}  // namespace
 
 // === Linear solvers
 
@@ -69,8 +80,8 @@ FemModel::FemModel(mesh::SurfaceMesh mesh, const mesh::Surface& surface, const G
     const std::size_t nv = m_mesh.num_vertices(), nf = m_mesh.num_faces();
     m_normal.resize(nv);
     m_thickness.resize(nv);
-    m_top.resize(nv);
-    m_rate.assign(nv, Vec3::Zero());
+    m_x.values.resize(nv);
+    m_xdot.values.assign(nv, Vec3::Zero());
     m_last_update.assign(nv, 0.0);
     for (std::size_t v = 0; v < nv; ++v) init_vertex(v);
     m_alive.assign(nf, 1);
@@ -81,6 +92,11 @@ FemModel::FemModel(mesh::SurfaceMesh mesh, const mesh::Surface& surface, const G
     rebuild_incidence();
     assemble();
     m_solver->update(m_K, true);
+    double thr = 0, h = 0;
+    for (const ElementMaterial& mat : m_material) thr += mat.threshold_stress;
+    for (double t : m_thickness) h += t;
+    const double edge = std::sqrt(m_mesh.total_area() / static_cast<double>(std::max<std::size_t>(nf, 1)));
+    m_force_scale = thr / static_cast<double>(std::max<std::size_t>(nf, 1)) * h / static_cast<double>(std::max<std::size_t>(nv, 1)) * edge;
 }
 
 FemModel::~FemModel() = default;
@@ -94,7 +110,7 @@ void FemModel::init_vertex(std::size_t v)
     CRACKLE_ASSERT(m_thickness[v] > 0, "non-positive layer thickness at vertex " << v);
     // Rest position: straight above the background at the current time.
     const double s_bar = 0.5 * (m_shrinkage.top(m_time) + m_shrinkage.bottom(m_time));
-    m_top[v] = m_growth.position(p, m_time) + (1.0 - s_bar) * m_thickness[v] * m_normal[v];
+    m_x.values[v] = m_growth.position(p, m_time) + (1.0 - s_bar) * m_thickness[v] * m_normal[v];
 }
 
 void FemModel::init_element(std::size_t f)
@@ -180,6 +196,10 @@ void FemModel::assemble()
 {
     m_K = assemble_from_scratch();
     m_stiffness_dirty_for_x = true;
+    m_residual_floor = residual_floor(m_K, m_mesh);
+    // Below ~60k unknowns a parallel mat-vec costs more in thread hand-offs than it saves
+    // (measured: half the CG time went to libgomp's spin-wait at 6k unknowns).
+    Eigen::setNbThreads(m_K.rows() < 60000 ? 1 : 0);
 }
 
 void FemModel::set_block(std::size_t a, std::size_t b, const Mat3& block)
@@ -203,8 +223,15 @@ Vec3 FemModel::shift_rate(const Vec2i& offset) const
     return m_growth.tensor() * m_surface.period_shift(offset);
 }
 
+void FemModel::invalidate_residuals()
+{
+    m_x.residual_valid = m_xdot.residual_valid = false;
+    m_x.load_norm = m_xdot.load_norm = -1;
+}
+
 void FemModel::set_time(double t)
 {
+    if (t != m_time) invalidate_residuals();
     m_time = t;
     const double dt_top = std::abs(m_shrinkage.top(t) - m_stiffness_s_top);
     const double dt_bot = std::abs(m_shrinkage.bottom(t) - m_stiffness_s_bot);
@@ -214,9 +241,29 @@ void FemModel::set_time(double t)
         for (std::size_t f = 0; f < m_mesh.num_faces(); ++f) build_element_stiffness(f);
         assemble();
         m_solver->update(m_K, false);
+        invalidate_residuals();
         log::debug("stiffness rebuilt at t = ", t, " (shrinkage top ", m_stiffness_s_top, ", bottom ",
                    m_stiffness_s_bot, ")");
     }
+}
+
+void FemModel::advance_time(double t)
+{
+    const double dt = t - m_time;
+    if (dt == 0.0) return;
+    if (t > stiffness_horizon()) {
+        advance_along_rate(dt);
+        set_time(t);
+        return;
+    }
+    // r(t) = b(t) − K x(t): both move affinely, so r += dt·(ḃ − K ẋ) = dt·r_rate.
+    ensure_residual(Unknown::Position);
+    ensure_residual(Unknown::Rate);
+    for (std::size_t v = 0; v < m_mesh.num_vertices(); ++v)
+        if (m_alive_degree[v] > 0) m_x.values[v] += dt * m_xdot.values[v];
+    m_x.residual += dt * m_xdot.residual;
+    m_x.load_norm = -1;
+    m_time = t;
 }
 
 double FemModel::stiffness_horizon() const
@@ -225,14 +272,19 @@ double FemModel::stiffness_horizon() const
     auto limit = [&](double rate, double s_ref) {
         if (rate == 0) return;
         // |rate·t − s_ref| reaches the refresh tolerance
-        const double t1 = (s_ref + m_options.stiffness_refresh) / rate;
-        const double t2 = (s_ref - m_options.stiffness_refresh) / rate;
-        for (double tc : {t1, t2})
+        for (double tc : {(s_ref + m_options.stiffness_refresh) / rate, (s_ref - m_options.stiffness_refresh) / rate})
             if (tc > m_time) horizon = std::min(horizon, tc);
     };
     limit(m_shrinkage.top_rate, m_stiffness_s_top);
     limit(m_shrinkage.bottom_rate, m_stiffness_s_bot);
     return horizon;
+}
+
+void FemModel::advance_along_rate(double dt)
+{
+    invalidate_residuals();
+    for (std::size_t v = 0; v < m_mesh.num_vertices(); ++v)
+        if (m_alive_degree[v] > 0) m_x.values[v] += dt * m_xdot.values[v];
 }
 
 // === Positions
@@ -246,7 +298,7 @@ wedge::Nodes FemModel::current_nodes(FaceId f) const
     for (std::size_t k = 0; k < 3; ++k) {
         const Vec3 s = shift(face.offset[k], m_time);
         p[k] = m_growth.position(m_mesh.positions[face.v[k]], m_time) + s;
-        p[k + 3] = m_top[ix(face.v[k])] + s;
+        p[k + 3] = m_x.values[ix(face.v[k])] + s;
     }
     return p;
 }
@@ -262,15 +314,36 @@ wedge::Vec18 FemModel::displacement(std::size_t f) const
     return wedge::flatten(current_nodes(face_id(f))) - wedge::flatten(reference_nodes(face_id(f)));
 }
 
-// === Equilibrium
-
-Eigen::VectorXd FemModel::residual() const
+wedge::Vec18 FemModel::displacement_rate(std::size_t f) const
 {
-    // r = b − K x = −Σ_e (K_e (P_e − Q_e))_top
+    // q̇ = Ṗ − Q̇. Q is affine in (s_top, s_bot), which are linear in t: Q̇ = Q(s + rate) − Q(s).
+    const mesh::Face& face = m_mesh.faces[face_id(f)];
+    wedge::Nodes p_dot;
+    for (std::size_t k = 0; k < 3; ++k) {
+        const Vec3 s_dot = shift_rate(face.offset[k]);
+        p_dot[k] = m_growth.velocity(m_mesh.positions[face.v[k]]) + s_dot;
+        p_dot[k + 3] = m_xdot.values[ix(face.v[k])] + s_dot;
+    }
+    const double st = m_shrinkage.top(m_time), sb = m_shrinkage.bottom(m_time);
+    return wedge::flatten(p_dot)
+           - (wedge::flatten(reference_nodes_at(f, st + m_shrinkage.top_rate, sb + m_shrinkage.bottom_rate))
+              - wedge::flatten(reference_nodes_at(f, st, sb)));
+}
+
+// === Residuals
+
+Eigen::Matrix<double, 9, 1> FemModel::element_force(std::size_t f, Unknown u) const
+{
+    return m_k_top[f] * (u == Unknown::Position ? displacement(f) : displacement_rate(f));
+}
+
+Eigen::VectorXd FemModel::full_residual(Unknown u) const
+{
+    // r = b − K x = −Σ_e (K_e q_e)_top over the alive elements
     Eigen::VectorXd r = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(3 * m_mesh.num_vertices()));
     for (std::size_t f = 0; f < m_mesh.num_faces(); ++f) {
         if (!m_alive[f]) continue;
-        const Eigen::Matrix<double, 9, 1> force = m_k_top[f] * displacement(f);
+        const Eigen::Matrix<double, 9, 1> force = element_force(f, u);
         const mesh::Face& face = m_mesh.faces[face_id(f)];
         for (std::size_t k = 0; k < 3; ++k)
             r.segment<3>(static_cast<Eigen::Index>(3 * ix(face.v[k]))) -= force.segment<3>(static_cast<Eigen::Index>(3 * k));
@@ -278,26 +351,80 @@ Eigen::VectorXd FemModel::residual() const
     return r;
 }
 
-double FemModel::load_norm() const
+void FemModel::ensure_residual(Unknown u)
 {
-    // The residual with every top node at rest straight above its bottom node: the size of
-    // the misfit forces that growth and shrinkage create.
-    const double s_bar = 0.5 * (m_shrinkage.top(m_time) + m_shrinkage.bottom(m_time));
+    Field& fd = field(u);
+    if (fd.residual_valid) return;
+    fd.residual = full_residual(u);
+    fd.residual_valid = true;
+}
+
+void FemModel::recompute_residual_at(Unknown u, const std::vector<std::size_t>& vertices)
+{
+    Field& fd = field(u);
+    if (!fd.residual_valid) return;  // recomputed in full when needed
+    std::vector<char> mark(m_mesh.num_vertices(), 0);
+    for (std::size_t v : vertices) {
+        mark[v] = 1;
+        fd.residual.segment<3>(static_cast<Eigen::Index>(3 * v)).setZero();
+    }
+    std::vector<std::uint32_t> faces;
+    for (std::size_t v : vertices)
+        for (std::uint32_t f : m_incident[v])
+            if (m_alive[f]) faces.push_back(f);
+    std::sort(faces.begin(), faces.end());
+    faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
+    for (std::uint32_t f : faces) {
+        const Eigen::Matrix<double, 9, 1> force = element_force(f, u);
+        const mesh::Face& face = m_mesh.faces[face_id(f)];
+        for (std::size_t k = 0; k < 3; ++k)
+            if (mark[ix(face.v[k])])
+                fd.residual.segment<3>(static_cast<Eigen::Index>(3 * ix(face.v[k]))) -=
+                    force.segment<3>(static_cast<Eigen::Index>(3 * k));
+    }
+}
+
+double FemModel::load_norm(Unknown u)
+{
+    Field& fd = field(u);
+    if (fd.load_norm >= 0) return fd.load_norm;
+    // The residual with every top node at rest above its bottom node (positions), or with
+    // ẋ = 0 (rates): the size of the loads that growth and shrinkage create.
     Eigen::VectorXd r = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(3 * m_mesh.num_vertices()));
+    const double s_bar = 0.5 * (m_shrinkage.top(m_time) + m_shrinkage.bottom(m_time));
     for (std::size_t f = 0; f < m_mesh.num_faces(); ++f) {
         if (!m_alive[f]) continue;
         const FaceId id = face_id(f);
-        wedge::Nodes p = current_nodes(id);
         const mesh::Face& face = m_mesh.faces[id];
-        for (std::size_t k = 0; k < 3; ++k)
-            p[k + 3] = p[k] + (1.0 - s_bar) * m_thickness[ix(face.v[k])] * m_normal[ix(face.v[k])];
-        const Eigen::Matrix<double, 9, 1> force =
-            m_k_top[f] * (wedge::flatten(p) - wedge::flatten(reference_nodes(id)));
+        wedge::Vec18 q;
+        if (u == Unknown::Position) {
+            wedge::Nodes p = current_nodes(id);
+            for (std::size_t k = 0; k < 3; ++k)
+                p[k + 3] = p[k] + (1.0 - s_bar) * m_thickness[ix(face.v[k])] * m_normal[ix(face.v[k])];
+            q = wedge::flatten(p) - wedge::flatten(reference_nodes(id));
+        } else {
+            q = displacement_rate(f);
+            for (std::size_t k = 0; k < 3; ++k)
+                q.segment<3>(static_cast<Eigen::Index>(9 + 3 * k)) -= m_xdot.values[ix(face.v[k])];
+        }
+        const Eigen::Matrix<double, 9, 1> force = m_k_top[f] * q;
         for (std::size_t k = 0; k < 3; ++k)
             r.segment<3>(static_cast<Eigen::Index>(3 * ix(face.v[k]))) -= force.segment<3>(static_cast<Eigen::Index>(3 * k));
     }
-    return r.norm();
+    fd.load_norm = r.norm();
+    return fd.load_norm;
 }
+
+double FemModel::max_residual_force()
+{
+    ensure_residual(Unknown::Position);
+    double worst = 0;
+    for (std::size_t v = 0; v < m_mesh.num_vertices(); ++v)
+        worst = std::max(worst, m_x.residual.segment<3>(static_cast<Eigen::Index>(3 * v)).norm());
+    return worst;
+}
+
+// === Equilibrium
 
 SolveStats FemModel::solve(const Eigen::VectorXd& rhs, Eigen::VectorXd& x, double abs_tolerance)
 {
@@ -312,6 +439,7 @@ SolveStats FemModel::solve(const Eigen::VectorXd& rhs, Eigen::VectorXd& x, doubl
     if (m_solver->kind == SolverKind::Direct) {
         m_solver->factorize();
         x = m_solver->cholmod.solve(rhs);
+        stats.iterations = 1;
         stats.residual = (rhs - m_K * x).norm() / rhs_norm;
     } else {
         auto& cg = m_solver->cg;
@@ -328,80 +456,185 @@ SolveStats FemModel::solve(const Eigen::VectorXd& rhs, Eigen::VectorXd& x, doubl
             throw NumericError(os.str());
         }
     }
-    if (!x.allFinite()) throw NumericError("the equilibrium solve produced NaN or infinity at t = " + std::to_string(m_time));
+    if (!x.allFinite())
+        throw NumericError("the equilibrium solve produced NaN or infinity at t = " + std::to_string(m_time));
     stats.seconds = timer.seconds();
     return stats;
 }
 
-namespace {
-/// An absolute floor for the residual: forces that move nodes by 1e-13 of an element.
-double residual_floor(const SpMatR& K, const mesh::SurfaceMesh& mesh)
+SolveStats FemModel::relax_field(Unknown u)
 {
-    const double k_max = K.diagonal().cwiseAbs().maxCoeff();
-    const double length = std::sqrt(mesh.total_area() / std::max<std::size_t>(mesh.num_faces(), 1));
-    return 1e-13 * k_max * length * std::sqrt(static_cast<double>(K.rows()));
+    Field& fd = field(u);
+    ensure_residual(u);
+    const double tol = std::max(m_options.tolerance * load_norm(u), m_residual_floor);
+    Eigen::VectorXd dx;
+    SolveStats stats = solve(fd.residual, dx, tol);
+    const std::size_t nv = m_mesh.num_vertices();
+    m_updated.resize(nv);
+    for (std::size_t v = 0; v < nv; ++v) {
+        const Vec3 d = dx.segment<3>(static_cast<Eigen::Index>(3 * v));
+        fd.values[v] += d;
+        m_last_update[v] = d.norm();
+        m_updated[v] = v;
+    }
+    stats.nodes = nv;
+    // The new residual without touching the elements: r − K·Δx.
+    if (stats.iterations > 0) fd.residual.noalias() -= m_K * dx;
+    return stats;
 }
-}  // namespace
 
 SolveStats FemModel::relax()
 {
-    const Eigen::VectorXd r = residual();
-    const double tol = std::max(m_options.tolerance * load_norm(), residual_floor(m_K, m_mesh));
-    Eigen::VectorXd dx;
-    SolveStats stats = solve(r, dx, tol);
-    for (std::size_t v = 0; v < m_mesh.num_vertices(); ++v) {
-        const Vec3 d = dx.segment<3>(static_cast<Eigen::Index>(3 * v));
-        m_top[v] += d;
-        m_last_update[v] = d.norm();
-    }
+    SolveStats s = relax_field(Unknown::Position);
     m_stiffness_dirty_for_x = false;
-    return stats;
+    return s;
 }
 
-Eigen::VectorXd FemModel::load_rate() const
+SolveStats FemModel::solve_rate() { return relax_field(Unknown::Rate); }
+
+SolveStats FemModel::relax_local(const std::vector<std::size_t>& seeds, double& radius, const LocalRelaxOptions& options)
 {
-    // ḃ: the right-hand side's time derivative, −Σ_e (K_e (Ṗ_e − Q̇_e))_top with ẋ = 0.
-    Eigen::VectorXd b = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(3 * m_mesh.num_vertices()));
-    const double st = m_shrinkage.top(m_time), sb = m_shrinkage.bottom(m_time);
-    for (std::size_t f = 0; f < m_mesh.num_faces(); ++f) {
-        if (!m_alive[f]) continue;
-        const FaceId id = face_id(f);
-        const mesh::Face& face = m_mesh.faces[id];
-        wedge::Nodes p_dot;
-        for (std::size_t k = 0; k < 3; ++k) {
-            const Vec3 s_dot = shift_rate(face.offset[k]);
-            p_dot[k] = m_growth.velocity(m_mesh.positions[face.v[k]]) + s_dot;
-            p_dot[k + 3] = s_dot;
-        }
-        // Q is affine in (s_top, s_bot), which are linear in t: Q̇ = Q(s + rate) − Q(s).
-        const wedge::Vec18 q_dot = wedge::flatten(reference_nodes_at(f, st + m_shrinkage.top_rate, sb + m_shrinkage.bottom_rate))
-                                   - wedge::flatten(reference_nodes_at(f, st, sb));
-        const Eigen::Matrix<double, 9, 1> force = m_k_top[f] * (wedge::flatten(p_dot) - q_dot);
-        for (std::size_t k = 0; k < 3; ++k)
-            b.segment<3>(static_cast<Eigen::Index>(3 * ix(face.v[k]))) -= force.segment<3>(static_cast<Eigen::Index>(3 * k));
+    SolveStats s = relax_field_local(Unknown::Position, seeds, radius, options);
+    m_stiffness_dirty_for_x = false;
+    return s;
+}
+
+SolveStats FemModel::relax_rate_local(const std::vector<std::size_t>& seeds, double& radius,
+                                      const LocalRelaxOptions& options)
+{
+    return relax_field_local(Unknown::Rate, seeds, radius, options);
+}
+
+SolveStats FemModel::relax_field_local(Unknown u, const std::vector<std::size_t>& seeds, double& radius,
+                                       const LocalRelaxOptions& options)
+{
+    Timer timer;
+    Field& fd = field(u);
+    ensure_residual(u);
+    const std::size_t nv = m_mesh.num_vertices();
+    auto force = [&](std::size_t v) { return fd.residual.segment<3>(static_cast<Eigen::Index>(3 * v)).norm(); };
+    double change = 0;
+    for (std::size_t v : seeds) change = std::max(change, force(v));
+    // Forces below `tolerance` of a threshold-level nodal force (threshold × thickness × edge)
+    // do not matter for cracking; per unit time for rates, with the run's time scale 1.
+    const double floor = std::max(m_options.tolerance * m_force_scale, m_residual_floor / std::sqrt(static_cast<double>(nv)));
+    const double tol = std::max(options.tolerance * change, floor);
+
+    SolveStats stats;
+    for (std::size_t v : m_updated) m_last_update[v] = 0.0;
+    m_updated.clear();
+    if (change <= tol) {
+        stats.seconds = timer.seconds();
+        return stats;
     }
-    return b;
-}
+    radius = std::max(radius, static_cast<double>(options.min_radius));
+    std::vector<std::size_t> sources = seeds;
+    // Scratch marks, kept between calls and reset only where used: O(local) per call.
+    std::vector<int>& hop = m_scratch_hop;
+    std::vector<int>& local_index = m_scratch_index;
+    std::vector<char>& touched = m_scratch_touched;
+    hop.resize(nv, -1);
+    local_index.resize(nv, -1);
+    touched.resize(nv, 0);
+    bool first_try = true;
 
-SolveStats FemModel::solve_rate()
-{
-    const Eigen::VectorXd b = load_rate();
-    Eigen::VectorXd rate(b.size());
-    for (std::size_t v = 0; v < m_mesh.num_vertices(); ++v) rate.segment<3>(static_cast<Eigen::Index>(3 * v)) = m_rate[v];
-    // Warm start: solve for the change of ẋ.
-    const Eigen::VectorXd r = b - m_K * rate;
-    const double tol = std::max(m_options.tolerance * b.norm(), residual_floor(m_K, m_mesh) * 1e-3);
-    Eigen::VectorXd d;
-    const SolveStats stats = solve(r, d, tol);
-    rate += d;
-    for (std::size_t v = 0; v < m_mesh.num_vertices(); ++v) m_rate[v] = rate.segment<3>(static_cast<Eigen::Index>(3 * v));
+    while (true) {
+        // === The set: a breadth-first ball along intact elements (crack-aware distance)
+        std::vector<std::size_t> set;
+        for (std::size_t v : sources)
+            if (hop[v] < 0 && m_alive_degree[v] > 0) {
+                hop[v] = 0;
+                set.push_back(v);
+            }
+        const int max_hop = static_cast<int>(std::lround(radius));
+        for (std::size_t head = 0; head < set.size(); ++head) {
+            const std::size_t v = set[head];
+            if (hop[v] >= max_hop) continue;
+            for (std::uint32_t f : m_incident[v]) {
+                if (!m_alive[f]) continue;
+                for (VertexId w : m_mesh.faces[face_id(f)].v)
+                    if (hop[ix(w)] < 0) {
+                        hop[ix(w)] = hop[v] + 1;
+                        set.push_back(ix(w));
+                    }
+            }
+        }
+        if (static_cast<double>(set.size()) > options.max_fraction * static_cast<double>(nv)) {
+            for (std::size_t v : set) hop[v] = -1;
+            for (std::size_t v : m_updated) touched[v] = 0;
+            SolveStats global = relax_field(u);
+            global.fell_back = true;
+            global.seconds = timer.seconds();
+            radius *= 2.0;
+            return global;
+        }
+
+        // === K_SS Δ = r_S with the rest held (the thesis' elimination method, §5.5)
+        const auto m = static_cast<Eigen::Index>(3 * set.size());
+        for (std::size_t i = 0; i < set.size(); ++i) local_index[set[i]] = static_cast<int>(i);
+        std::vector<Eigen::Triplet<double>> triplets;
+        triplets.reserve(static_cast<std::size_t>(m) * 21);
+        Eigen::VectorXd rhs(m);
+        for (std::size_t i = 0; i < set.size(); ++i) {
+            const std::size_t v = set[i];
+            rhs.segment<3>(static_cast<Eigen::Index>(3 * i)) = fd.residual.segment<3>(static_cast<Eigen::Index>(3 * v));
+            for (int d = 0; d < 3; ++d) {
+                const auto row = static_cast<Eigen::Index>(3 * v) + d;
+                for (SpMatR::InnerIterator it(m_K, row); it; ++it) {
+                    const int lj = local_index[static_cast<std::size_t>(it.col() / 3)];
+                    if (lj >= 0)
+                        triplets.emplace_back(static_cast<Eigen::Index>(3 * i) + d,
+                                              static_cast<Eigen::Index>(3 * lj) + it.col() % 3, it.value());
+                }
+            }
+        }
+        Eigen::SparseMatrix<double> Kss(m, m);
+        Kss.setFromTriplets(triplets.begin(), triplets.end());
+        Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt(Kss);
+        if (ldlt.info() != Eigen::Success) throw NumericError("local stiffness matrix is not positive definite");
+        const Eigen::VectorXd dx = ldlt.solve(rhs);
+        stats.iterations += 1;
+        stats.nodes = std::max(stats.nodes, set.size());
+
+        // === Apply: x_S += Δ; r −= K[:, S] Δ (K symmetric: walk the rows of S)
+        for (std::size_t i = 0; i < set.size(); ++i) {
+            const std::size_t v = set[i];
+            const Vec3 d = dx.segment<3>(static_cast<Eigen::Index>(3 * i));
+            fd.values[v] += d;
+            m_last_update[v] += d.norm();
+            if (!touched[v]) {
+                touched[v] = 1;
+                m_updated.push_back(v);
+            }
+            for (int c = 0; c < 3; ++c) {
+                const auto row = static_cast<Eigen::Index>(3 * v) + c;
+                for (SpMatR::InnerIterator it(m_K, row); it; ++it) fd.residual[it.col()] -= it.value() * d[c];
+            }
+        }
+        for (std::size_t v : set) local_index[v] = -1;
+
+        // === Radius control (§5.8.3): the largest force left, in and just outside the set
+        std::vector<std::size_t> unresolved;
+        for (std::size_t v : set)
+            for (std::uint32_t f : m_incident[v])
+                for (VertexId w : m_mesh.faces[face_id(f)].v)
+                    if (m_alive_degree[ix(w)] > 0 && force(ix(w)) > tol) unresolved.push_back(ix(w));
+        for (std::size_t v : set) hop[v] = -1;
+        if (unresolved.empty()) {
+            if (first_try) radius = std::max(static_cast<double>(options.min_radius), 0.9 * radius);
+            break;
+        }
+        first_try = false;
+        radius *= 2.0;
+        std::sort(unresolved.begin(), unresolved.end());
+        unresolved.erase(std::unique(unresolved.begin(), unresolved.end()), unresolved.end());
+        sources = seeds;
+        sources.insert(sources.end(), unresolved.begin(), unresolved.end());
+    }
+    for (std::size_t v : m_updated) touched[v] = 0;
+    stats.residual = tol / std::max(change, 1e-300);
+    stats.seconds = timer.seconds();
     return stats;
-}
-
-void FemModel::advance_along_rate(double dt)
-{
-    for (std::size_t v = 0; v < m_mesh.num_vertices(); ++v)
-        if (m_alive_degree[v] > 0) m_top[v] += dt * m_rate[v];
 }
 
 // === Stress
@@ -426,17 +659,7 @@ TopStress FemModel::top_stress_rate(FaceId f) const
     const std::size_t fi = ix(f);
     const wedge::Nodes ref = reference_nodes_at(fi, m_stiffness_s_top, m_stiffness_s_bot);
     const wedge::Mat6 D = wedge::elasticity(m_material[fi].young_modulus, m_fields.poisson_ratio);
-    const mesh::Face& face = m_mesh.faces[f];
-    wedge::Nodes p_dot;
-    for (std::size_t k = 0; k < 3; ++k) {
-        const Vec3 s_dot = shift_rate(face.offset[k]);
-        p_dot[k] = m_growth.velocity(m_mesh.positions[face.v[k]]) + s_dot;
-        p_dot[k + 3] = m_rate[ix(face.v[k])] + s_dot;
-    }
-    const double st = m_shrinkage.top(m_time), sb = m_shrinkage.bottom(m_time);
-    const wedge::Vec18 q_dot = wedge::flatten(p_dot)
-                               - (wedge::flatten(reference_nodes_at(fi, st + m_shrinkage.top_rate, sb + m_shrinkage.bottom_rate))
-                                  - wedge::flatten(reference_nodes_at(fi, st, sb)));
+    const wedge::Vec18 q_dot = displacement_rate(fi);
     TopStress s;
     for (std::size_t k = 0; k < 3; ++k) {
         const auto& g = wedge::quadrature()[static_cast<std::size_t>(wedge::TOP_GAUSS_POINTS[k])];
@@ -470,10 +693,24 @@ void FemModel::remove_element(FaceId f)
 {
     const std::size_t fi = ix(f);
     CRACKLE_ASSERT(m_alive[fi], "element " << fi << " is already removed");
+    const mesh::Face& face = m_mesh.faces[f];
+    // The element's forces leave the sums r = −Σ_alive f_e, for positions and rates alike.
+    for (Unknown u : {Unknown::Position, Unknown::Rate}) {
+        Field& fd = field(u);
+        if (!fd.residual_valid) continue;
+        const Eigen::Matrix<double, 9, 1> force = element_force(fi, u);
+        for (std::size_t k = 0; k < 3; ++k)
+            fd.residual.segment<3>(static_cast<Eigen::Index>(3 * ix(face.v[k]))) +=
+                force.segment<3>(static_cast<Eigen::Index>(3 * k));
+    }
     m_alive[fi] = 0;
     --m_num_alive;
-    const mesh::Face& face = m_mesh.faces[f];
-    for (VertexId v : face.v) --m_alive_degree[ix(v)];
+    for (VertexId v : face.v) {
+        // A node left without elements feels no force: it stays where it is.
+        if (--m_alive_degree[ix(v)] == 0)
+            for (Field* fd : {&m_x, &m_xdot})
+                if (fd->residual_valid) fd->residual.segment<3>(static_cast<Eigen::Index>(3 * ix(v))).setZero();
+    }
     // Alg. 7: every block (a, b) between nodes of the removed element is rebuilt from the
     // alive elements that still share both nodes: exact, no subtraction round-off (F12).
     for (std::size_t a = 0; a < 3; ++a)
@@ -509,7 +746,7 @@ std::vector<FaceId> FemModel::subdivide(FaceId f)
             ? mesh::domain_midpoint([this](const Vec2& d) { return m_surface.position(d); })
             : mesh::projected_midpoint([this](const Vec3& p) { return m_surface.project(p); });
     // Each new vertex's top node starts at the midpoint of the split edge's top nodes, worked
-    // out in the split face's periodic frame before the split happens.
+    // out in the split face's periodic frame before the split happens (and its rate likewise).
     std::vector<std::pair<std::size_t, std::pair<Vec3, Vec3>>> new_tops;  // vertex, (top, rate)
     const mesh::MidpointRule rule = [&](const mesh::SurfaceMesh& m, FaceId face, int edge) {
         const mesh::NewVertex nv = where(m, face, edge);
@@ -521,10 +758,12 @@ std::vector<FaceId> FemModel::subdivide(FaceId f)
             om = Vec2i(static_cast<int>(std::lround((mid.x() - nv.domain.x()) / m.period.x())),
                        static_cast<int>(std::lround((mid.y() - nv.domain.y()) / m.period.y())));
         }
-        const Vec3 top = 0.5 * (m_top[ix(fc.v[a])] + shift(fc.offset[a], m_time) + m_top[ix(fc.v[b])]
+        const Vec3 top = 0.5 * (m_x.values[ix(fc.v[a])] + shift(fc.offset[a], m_time) + m_x.values[ix(fc.v[b])]
                                 + shift(fc.offset[b], m_time))
                          - shift(om, m_time);
-        const Vec3 rate = 0.5 * (m_rate[ix(fc.v[a])] + m_rate[ix(fc.v[b])]);
+        const Vec3 rate = 0.5 * (m_xdot.values[ix(fc.v[a])] + shift_rate(fc.offset[a]) + m_xdot.values[ix(fc.v[b])]
+                                 + shift_rate(fc.offset[b]))
+                          - shift_rate(om);
         new_tops.push_back({m.num_vertices(), {top, rate}});
         return nv;
     };
@@ -539,12 +778,17 @@ std::vector<FaceId> FemModel::subdivide(FaceId f)
         CRACKLE_ASSERT(new_tops[i].first == v, "split order and vertex ids disagree");
         m_normal.emplace_back();
         m_thickness.emplace_back();
-        m_top.emplace_back();
-        m_rate.emplace_back(Vec3::Zero());
+        m_x.values.emplace_back();
+        m_xdot.values.emplace_back();
         m_last_update.emplace_back(0.0);
+        for (Field* fd : {&m_x, &m_xdot})
+            if (fd->residual_valid) {
+                fd->residual.conservativeResize(fd->residual.size() + 3);
+                fd->residual.tail<3>().setZero();
+            }
         init_vertex(v);
-        m_top[v] = new_tops[i].second.first;
-        m_rate[v] = new_tops[i].second.second;
+        m_x.values[v] = new_tops[i].second.first;
+        m_xdot.values[v] = new_tops[i].second.second;
         // Children: the kept id keeps the parent's status, the new id copies it.
         for (const auto& [kid, nid] : split.children) {
             const char status = m_alive[ix(kid)];
@@ -564,6 +808,15 @@ std::vector<FaceId> FemModel::subdivide(FaceId f)
     rebuild_incidence();
     assemble();
     m_solver->update(m_K, true);
+    // Only the residuals at the refined faces' nodes change.
+    std::vector<std::size_t> vertices;
+    for (FaceId t : touched)
+        for (VertexId w : m_mesh.faces[t].v) vertices.push_back(ix(w));
+    std::sort(vertices.begin(), vertices.end());
+    vertices.erase(std::unique(vertices.begin(), vertices.end()), vertices.end());
+    recompute_residual_at(Unknown::Position, vertices);
+    recompute_residual_at(Unknown::Rate, vertices);
+    m_x.load_norm = m_xdot.load_norm = -1;
     return touched;
 }
 

@@ -64,6 +64,17 @@ struct SolveStats {
     int iterations = 0;
     double residual = 0;  ///< final residual relative to the load
     double seconds = 0;
+    std::size_t nodes = 0;    ///< nodes solved for (all, or the local set)
+    bool fell_back = false;   ///< a local relaxation that had to solve globally
+};
+
+/// Adaptive local relaxation (Federl 2002, §5.8; digest §3.10): after a local change, solve
+/// only for the nodes within a graph radius of it, holding the rest, and grow the radius
+/// until the remaining residual is small next to the change's own.
+struct LocalRelaxOptions {
+    double tolerance = 1e-4;     ///< remaining max nodal force / the change's max nodal force
+    double max_fraction = 0.25;  ///< solve globally when the local set passes this share of nodes
+    int min_radius = 2;          ///< hops
 };
 
 /// σ at the three Gauss points nearest the top face (Voigt order, Pa).
@@ -89,25 +100,48 @@ public:
     double vertex_thickness(mesh::VertexId v) const { return m_thickness[mesh::ix(v)]; }
 
     // === Time and equilibrium
-    /// Moves the background and the reference shapes to time t. Rebuilds the stiffness when
-    /// shrinkage has changed the reference shapes enough; the positions then need relax().
+    /// Moves the background and the reference shapes to time t, leaving the top nodes where
+    /// they are (they then need relax()). Rebuilds the stiffness when shrinkage has changed the
+    /// reference shapes enough.
     void set_time(double t);
+    /// Moves to time t along the exact affine solution: x += (t − t₀)·ẋ, with the tracked
+    /// residuals carried along (no solve). Falls back to set_time() + invalidated residuals
+    /// when the stiffness has to be rebuilt at t.
+    void advance_time(double t);
     /// The latest time up to which the current stiffness stays valid (∞ without shrinkage).
     double stiffness_horizon() const;
     /// True when the stiffness changed since the last relax() (a refresh or a topology change).
     bool stiffness_changed() const { return m_stiffness_dirty_for_x; }
-    /// Solves the equilibrium at the current time, warm-started from the current positions.
-    /// Throws NumericError when the solver fails (with iterations and residual).
+
+    /// Solves the equilibrium at the current time, warm-started from the current positions
+    /// (the increment solves the tracked residual). Throws NumericError when the solver fails.
     SolveStats relax();
-    /// Solves for ẋ = ∂x/∂t at the current time with the current stiffness.
+    /// Solves for ẋ = ∂x/∂t at the current time with the current stiffness (warm-started).
     SolveStats solve_rate();
+    /// Relaxes the positions only around `seeds` (§5.8): the nodes within `radius` hops along
+    /// intact elements (so the set does not leak across cracks, Fig. 5.25) are solved with the
+    /// rest held; while the largest remaining nodal force exceeds `tolerance` × the change's,
+    /// the radius doubles, and past `max_fraction` of the nodes it solves globally. `radius`
+    /// adapts in place (§5.8.3): shrunk by 10 % after a first-try success, doubled when more
+    /// was needed.
+    SolveStats relax_local(const std::vector<std::size_t>& seeds, double& radius, const LocalRelaxOptions& options = {});
+    /// The same for the rate solution ẋ (a removal changes it only nearby, too).
+    SolveStats relax_rate_local(const std::vector<std::size_t>& seeds, double& radius,
+                                const LocalRelaxOptions& options = {});
     /// Moves the top nodes along the rate solution: x += dt·ẋ (exact while K is fixed).
     void advance_along_rate(double dt);
-    /// Per-vertex size of the last relax()'s update (m).
+    /// Per-vertex size of the last solve's update (m, or m per unit time for rates).
     const std::vector<double>& last_update() const { return m_last_update; }
+    /// The vertices the last solve changed.
+    const std::vector<std::size_t>& last_updated_vertices() const { return m_updated; }
+    /// Largest nodal force left in the position residual (N), for tests.
+    double max_residual_force();
+    /// Faces around a vertex (alive or not).
+    const std::vector<std::uint32_t>& incident_faces(std::size_t v) const { return m_incident[v]; }
 
     // === Positions
-    Vec3 top_position(mesh::VertexId v) const { return m_top[mesh::ix(v)]; }
+    Vec3 top_position(mesh::VertexId v) const { return m_x.values[mesh::ix(v)]; }
+    Vec3 top_rate(mesh::VertexId v) const { return m_xdot.values[mesh::ix(v)]; }
     Vec3 bottom_position(mesh::VertexId v) const;
     /// Current node positions of an element (periodic shifts applied).
     wedge::Nodes current_nodes(mesh::FaceId f) const;
@@ -116,7 +150,7 @@ public:
 
     // === Stress (§5.6.1)
     TopStress top_stress(mesh::FaceId f) const;
-    /// dσ/dt at the top Gauss points, from the last solve_rate().
+    /// dσ/dt at the top Gauss points, from the current rate solution.
     TopStress top_stress_rate(mesh::FaceId f) const;
     /// Largest top principal stress over threshold (> 1 means a fracture candidate).
     double stress_ratio(mesh::FaceId f) const;
@@ -143,6 +177,16 @@ public:
 private:
     struct Solver;
 
+    /// An unknown field over the top nodes with its tracked residual b − K·values.
+    enum class Unknown { Position, Rate };
+    struct Field {
+        std::vector<Vec3> values;
+        Eigen::VectorXd residual;
+        bool residual_valid = false;
+        double load_norm = -1;  ///< scale of the tolerance (‖b‖ with the top nodes at rest)
+    };
+    Field& field(Unknown u) { return u == Unknown::Position ? m_x : m_xdot; }
+
     void init_vertex(std::size_t v);
     void init_element(std::size_t f);
     void build_element_stiffness(std::size_t f);
@@ -151,12 +195,21 @@ private:
     Vec3 shift(const Vec2i& offset, double t) const;
     Vec3 shift_rate(const Vec2i& offset) const;
     wedge::Nodes reference_nodes_at(std::size_t f, double s_top, double s_bot) const;
-    Eigen::VectorXd residual() const;
-    Eigen::VectorXd load_rate() const;
-    double load_norm() const;
-    SolveStats solve(const Eigen::VectorXd& rhs, Eigen::VectorXd& x, double abs_tolerance);
     wedge::Vec18 displacement(std::size_t f) const;
+    wedge::Vec18 displacement_rate(std::size_t f) const;
+    /// K_e,top·q (positions) or K_e,top·q̇ (rates): the element's forces on its top nodes.
+    Eigen::Matrix<double, 9, 1> element_force(std::size_t f, Unknown u) const;
+    Eigen::VectorXd full_residual(Unknown u) const;
+    void ensure_residual(Unknown u);
+    /// Recomputes the residual at the given vertices from their elements.
+    void recompute_residual_at(Unknown u, const std::vector<std::size_t>& vertices);
+    double load_norm(Unknown u);
+    SolveStats solve(const Eigen::VectorXd& rhs, Eigen::VectorXd& x, double abs_tolerance);
+    SolveStats relax_field(Unknown u);
+    SolveStats relax_field_local(Unknown u, const std::vector<std::size_t>& seeds, double& radius,
+                                 const LocalRelaxOptions& options);
     void set_block(std::size_t a, std::size_t b, const Mat3& block);
+    void invalidate_residuals();
 
     mesh::SurfaceMesh m_mesh;
     mesh::Surface m_surface;
@@ -168,13 +221,18 @@ private:
     double m_time = 0;
     double m_stiffness_s_top = 0, m_stiffness_s_bot = 0;  // shrinkage at the last stiffness build
     bool m_stiffness_dirty_for_x = true;
+    double m_residual_floor = 0;
+    double m_force_scale = 1;  // threshold × thickness × edge length: a nodal force that cracks
 
     // per vertex
     std::vector<Vec3> m_normal;      // surface normal at t = 0
     std::vector<double> m_thickness; // layer thickness
-    std::vector<Vec3> m_top;         // current canonical top position
-    std::vector<Vec3> m_rate;        // ẋ
+    Field m_x;                       // current canonical top positions
+    Field m_xdot;                    // their rate ẋ
     std::vector<double> m_last_update;
+    std::vector<std::size_t> m_updated;
+    std::vector<int> m_scratch_hop, m_scratch_index;
+    std::vector<char> m_scratch_touched;
     std::vector<std::vector<std::uint32_t>> m_incident;  // faces around each vertex
     std::vector<int> m_alive_degree;                     // alive faces around each vertex
 

@@ -1,0 +1,370 @@
+#include "fracture/fem_remove.hpp"
+
+#include "core/error.hpp"
+#include "core/log.hpp"
+#include "core/progress.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace crackle::fracture {
+
+using mesh::face_id;
+using mesh::FaceId;
+using mesh::ix;
+
+namespace {
+
+/// Top-face stresses of every element, affine in time while the stiffness is fixed:
+/// σ(t₀ + τ) = σ₀ + τ·σ̇. Keeps each element's ratio at the current time and the set of
+/// over-threshold candidates, so an event costs work only where stresses changed.
+class StressCache {
+public:
+    explicit StressCache(const sim::FemModel& model) : m_model(model) {}
+
+    void resize()
+    {
+        const std::size_t n = m_model.mesh().num_faces();
+        m_s0.resize(n);
+        m_rate.resize(n);
+        m_ratio.resize(n, 0.0);
+    }
+
+    void refresh(std::size_t f)
+    {
+        if (!m_model.alive(face_id(f))) {
+            m_ratio[f] = 0.0;
+            return;
+        }
+        m_s0[f] = m_model.top_stress(face_id(f));
+        m_rate[f] = m_model.top_stress_rate(face_id(f));
+        m_ratio[f] = ratio_at(f, 0.0);
+    }
+
+    void refresh_all()
+    {
+        resize();
+        for (std::size_t f = 0; f < m_s0.size(); ++f) refresh(f);
+    }
+
+    /// Re-evaluates the elements around the given vertices (§5.8.4: recompute stresses only
+    /// where nodes moved).
+    std::size_t refresh_around(const std::vector<std::size_t>& vertices)
+    {
+        std::size_t count = 0;
+        ++m_stamp;
+        if (m_seen.size() < m_s0.size()) m_seen.resize(m_s0.size(), 0);
+        for (std::size_t v : vertices) {
+            for (std::uint32_t f : m_model.incident_faces(v)) {
+                if (m_seen[f] == m_stamp || !m_model.alive(face_id(f))) continue;
+                m_seen[f] = m_stamp;
+                refresh(f);
+                ++count;
+            }
+        }
+        return count;
+    }
+
+    /// Moves every cached stress forward by dt along its rate.
+    void advance(double dt)
+    {
+        for (std::size_t f = 0; f < m_s0.size(); ++f) {
+            if (!m_model.alive(face_id(f))) continue;
+            for (std::size_t k = 0; k < 3; ++k) m_s0[f][k] += dt * m_rate[f][k];
+            m_ratio[f] = ratio_at(f, 0.0);
+        }
+    }
+
+    /// Largest top principal stress over threshold, dt after the cache's time.
+    double ratio_at(std::size_t f, double dt) const
+    {
+        double best = -std::numeric_limits<double>::infinity();
+        for (std::size_t k = 0; k < 3; ++k) {
+            const sim::wedge::Vec6 s = dt == 0.0 ? m_s0[f][k] : sim::wedge::Vec6(m_s0[f][k] + dt * m_rate[f][k]);
+            best = std::max(best, sim::wedge::max_principal(s).value);
+        }
+        return best / m_model.material(face_id(f)).threshold_stress;
+    }
+
+    double ratio(std::size_t f) const { return m_ratio[f]; }
+
+    /// (lower bound of the time until the element can reach its threshold, element), sorted.
+    std::vector<std::pair<double, std::size_t>> earliest_crossings() const
+    {
+        auto frobenius = [](const sim::wedge::Vec6& v) {
+            return std::sqrt(sqr(v[0]) + sqr(v[1]) + sqr(v[2]) + 2 * (sqr(v[3]) + sqr(v[4]) + sqr(v[5])));
+        };
+        std::vector<std::pair<double, std::size_t>> out;
+        out.reserve(m_s0.size());
+        for (std::size_t f = 0; f < m_s0.size(); ++f) {
+            if (!m_model.alive(face_id(f))) continue;
+            const double thr = m_model.material(face_id(f)).threshold_stress;
+            double bound = std::numeric_limits<double>::infinity();
+            for (std::size_t k = 0; k < 3; ++k) {
+                const double s = frobenius(m_s0[f][k]), r = frobenius(m_rate[f][k]);
+                if (s >= thr) bound = 0.0;
+                else if (r > 0) bound = std::min(bound, (thr - s) / r);
+            }
+            if (std::isfinite(bound)) out.emplace_back(bound, f);
+        }
+        std::sort(out.begin(), out.end());
+        return out;
+    }
+    std::size_t size() const { return m_s0.size(); }
+
+private:
+    const sim::FemModel& m_model;
+    std::vector<sim::TopStress> m_s0, m_rate;
+    std::vector<double> m_ratio;
+    std::vector<std::uint32_t> m_seen;
+    std::uint32_t m_stamp = 0;
+};
+
+struct Candidate {
+    std::size_t face = 0;
+    double ratio = 0;
+};
+
+/// The element with the highest ratio above 1; ties (within 1e-12) broken by the RNG.
+bool pick_candidate(const sim::FemModel& model, const StressCache& cache, Rng& rng, Candidate& out)
+{
+    double best = 1.0;
+    std::vector<std::size_t> ties;
+    for (std::size_t f = 0; f < cache.size(); ++f) {
+        if (!model.alive(face_id(f))) continue;
+        const double r = cache.ratio(f);
+        if (r <= 1.0) continue;
+        if (r > best * (1 + 1e-12)) {
+            best = r;
+            ties.assign(1, f);
+        } else if (r >= best * (1 - 1e-12)) {
+            ties.push_back(f);
+        }
+    }
+    if (ties.empty()) return false;
+    out.face = ties.size() == 1 ? ties[0] : ties[rng.uniform_int(static_cast<std::uint32_t>(ties.size()))];
+    out.ratio = cache.ratio(out.face);
+    return true;
+}
+
+Vec3 reference_centroid(const sim::FemModel& model, FaceId f)
+{
+    const auto p = model.mesh().face_positions(f);
+    return (p[0] + p[1] + p[2]) / 3.0;
+}
+
+}  // namespace
+
+CrackPattern pattern_from_model(const sim::FemModel& model, const std::string& method, std::size_t elements_initial)
+{
+    CrackPattern p;
+    p.method = method;
+    p.surface = model.surface();
+    p.mesh = model.mesh();
+    p.final_time = model.time();
+    p.elements_initial = elements_initial;
+    const std::size_t nv = p.mesh.num_vertices(), nf = p.mesh.num_faces();
+    p.deformed.resize(nv);
+    p.thickness.resize(nv);
+    for (std::size_t v = 0; v < nv; ++v) {
+        p.deformed[v] = model.top_position(mesh::vertex_id(v));
+        p.thickness[v] = model.vertex_thickness(mesh::vertex_id(v));
+    }
+    for (int i = 0; i < 2; ++i)
+        p.deformed_period[static_cast<std::size_t>(i)] =
+            model.growth().period_shift(p.mesh.period_vectors[static_cast<std::size_t>(i)], model.time());
+    p.removed.resize(nf);
+    for (std::size_t f = 0; f < nf; ++f) p.removed[f] = model.alive(face_id(f)) ? 0 : 1;
+    label_fragments(p);
+    // Crack lips: intact edges facing a removed element; the opening is the removed
+    // element's deformed height over that edge, its depth the layer thickness.
+    for (std::size_t fi = 0; fi < nf; ++fi) {
+        if (p.removed[fi]) continue;
+        for (int k = 0; k < 3; ++k) {
+            const mesh::FaceNeighbor nb = p.mesh.neighbor(face_id(fi), k);
+            if (nb.face != mesh::NO_FACE && !p.removed[ix(nb.face)]) continue;
+            CrackEdge c;
+            c.face = face_id(fi);
+            c.edge = k;
+            const Vec3 a = p.deformed_corner(c.face, k), b = p.deformed_corner(c.face, (k + 1) % 3);
+            if (nb.face != mesh::NO_FACE) {
+                const Vec3 far = p.deformed_corner(nb.face, (nb.edge + 2) % 3);
+                c.opening = (far - a).cross(b - a).norm() / std::max((b - a).norm(), 1e-300);
+            }
+            const auto& face = p.mesh.faces[c.face];
+            c.depth = 0.5 * (p.thickness[ix(face.v[static_cast<std::size_t>(k)])]
+                             + p.thickness[ix(face.v[static_cast<std::size_t>((k + 1) % 3)])]);
+            p.cracks.push_back(c);
+        }
+    }
+    return p;
+}
+
+CrackPattern run_fem_remove(sim::FemModel& model, const FractureOptions& options, Rng& rng, RunStats* stats_out)
+{
+    RunStats stats;
+    Timer total;
+    std::vector<Event> events;
+    const std::size_t elements_initial = model.num_alive();
+    const double dt_min = options.time_tolerance * options.duration;
+
+    double radius = 4.0, rate_radius = 4.0;  // local radii in hops, adapted as the run goes (§5.8.3)
+    // After a local change, both the positions and their rates settle again nearby.
+    auto relax_near = [&](const std::vector<std::size_t>& seeds) {
+        Timer timer;
+        std::vector<std::size_t> moved;
+        for (int pass = 0; pass < 2; ++pass) {
+            sim::SolveStats s;
+            if (!options.local_relaxation)
+                s = pass == 0 ? model.relax() : model.solve_rate();
+            else
+                s = pass == 0 ? model.relax_local(seeds, radius) : model.relax_rate_local(seeds, rate_radius);
+            stats.solver_iterations += s.iterations;
+            ++stats.solves;
+            if (options.local_relaxation) {
+                ++stats.local_solves;
+                stats.local_nodes += s.nodes;
+                stats.local_fallbacks += s.fell_back;
+            }
+            const auto& upd = model.last_updated_vertices();
+            moved.insert(moved.end(), upd.begin(), upd.end());
+        }
+        stats.solve_seconds += timer.seconds();
+        return moved;
+    };
+    auto vertices_of = [&](const std::vector<FaceId>& faces) {
+        std::vector<std::size_t> vs;
+        for (FaceId f : faces)
+            for (mesh::VertexId v : model.mesh().faces[f].v) vs.push_back(ix(v));
+        std::sort(vs.begin(), vs.end());
+        vs.erase(std::unique(vs.begin(), vs.end()), vs.end());
+        return vs;
+    };
+
+    StressCache cache(model);
+    // The state at the start: equilibrium and its rate, globally.
+    {
+        Timer timer;
+        stats.solver_iterations += model.relax().iterations + model.solve_rate().iterations;
+        stats.solves += 2;
+        stats.solve_seconds += timer.seconds();
+        timer.reset();
+        cache.refresh_all();
+        stats.stress_seconds += timer.seconds();
+    }
+    Progress progress("fracture", options.duration);
+    double last_step = options.duration * 1e-3;
+    bool capped = false;
+
+    while (true) {
+        progress.update(model.time());
+        Candidate cand;
+        if (pick_candidate(model, cache, rng, cand)) {
+            if (events.size() >= options.max_events) {
+                capped = true;
+                log::warn("fracture stopped at simulation.max_events = ", options.max_events, " (t = ", model.time(),
+                          " of ", options.duration, ")");
+                break;
+            }
+            const FaceId f = face_id(cand.face);
+            Event ev;
+            ev.time = model.time();
+            ev.position = reference_centroid(model, f);
+            ev.ratio = cand.ratio;
+            std::vector<std::size_t> moved;
+            if (options.min_element_size > 0 && model.element_size(f) > options.min_element_size) {
+                // Alg. 8: too coarse to remove; refine here instead (Rivara, Alg. 9).
+                Timer timer;
+                const std::vector<FaceId> touched = model.subdivide(f);
+                ev.kind = "subdivide";
+                ++stats.subdivisions;
+                cache.resize();
+                stats.stress_seconds += timer.seconds();
+                moved = relax_near(vertices_of(touched));
+                const std::vector<std::size_t> around = vertices_of(touched);
+                moved.insert(moved.end(), around.begin(), around.end());
+            } else {
+                model.remove_element(f);
+                ev.kind = "remove";
+                ++stats.removals;
+                cache.refresh(cand.face);
+                moved = relax_near(vertices_of({f}));
+            }
+            Timer timer;
+            cache.refresh_around(moved);
+            stats.stress_seconds += timer.seconds();
+            events.push_back(ev);
+            continue;
+        }
+        if (model.time() >= options.duration) break;
+
+        // === Alg. 5: find the time of the next fracture
+        Timer timer;
+        const double t0 = model.time();
+        const double horizon = std::min(options.duration, model.stiffness_horizon());
+        // Earliest possible crossing per element, from λ_max(σ₀ + τσ̇) ≤ ‖σ₀‖ + τ‖σ̇‖: only
+        // elements whose bound has passed need their eigenvalues checked.
+        const std::vector<std::pair<double, std::size_t>> earliest = cache.earliest_crossings();
+        auto any_over = [&](double t) {
+            for (const auto& [bound, f] : earliest) {
+                if (bound > t - t0) break;
+                if (cache.ratio_at(f, t - t0) > 1.0) return true;
+            }
+            return false;
+        };
+        // Bracket: grow the step until some element is over threshold, or the horizon.
+        double t_lo = t0, t_hi = t0, dt = std::max(last_step, dt_min);
+        bool found = false;
+        while (t_hi < horizon) {
+            t_hi = std::min(t_lo + dt, horizon);
+            if (any_over(t_hi)) {
+                found = true;
+                break;
+            }
+            t_lo = t_hi;
+            dt *= 2.0;
+        }
+        if (found) {
+            // Bisect over the elements over threshold at t_hi: the first crossing is among them
+            // (each ratio is convex in t, so one below threshold at both ends stays below).
+            std::vector<std::size_t> over;
+            for (const auto& [bound, f] : earliest) {
+                if (bound > t_hi - t0) break;
+                if (cache.ratio_at(f, t_hi - t0) > 1.0) over.push_back(f);
+            }
+            while (t_hi - t_lo > dt_min) {
+                const double mid = 0.5 * (t_lo + t_hi);
+                bool any = false;
+                for (std::size_t f : over) any = any || cache.ratio_at(f, mid - t0) > 1.0;
+                (any ? t_hi : t_lo) = mid;
+            }
+            last_step = std::max(t_hi - t0, dt_min);
+        }
+        // Move along the exact affine solution; no solve unless shrinkage rebuilt the stiffness.
+        model.advance_time(t_hi);
+        ++stats.time_steps;
+        if (model.stiffness_changed()) {
+            stats.stress_seconds += timer.seconds();
+            Timer solve_timer;
+            stats.solver_iterations += model.relax().iterations + model.solve_rate().iterations;
+            stats.solves += 2;
+            stats.solve_seconds += solve_timer.seconds();
+            timer.reset();
+            cache.refresh_all();  // new B matrices: every stress changes
+        } else {
+            cache.advance(t_hi - t0);
+        }
+        stats.stress_seconds += timer.seconds();
+    }
+    progress.finish();
+
+    CrackPattern pattern = pattern_from_model(model, "fem-remove", elements_initial);
+    pattern.events = std::move(events);
+    pattern.events_capped = capped;
+    stats.total_seconds = total.seconds();
+    if (stats_out) *stats_out = stats;
+    return pattern;
+}
+
+}  // namespace crackle::fracture

@@ -1,0 +1,39 @@
+#pragma once
+/// @file Fracture by element removal (Federl 2002, §5.6): remove the element with the highest
+/// stress/threshold ratio, re-relax, repeat; when none is over threshold, jump to the time of
+/// the next fracture (Alg. 5); subdivide coarse elements instead of removing them (Alg. 8).
+
+#include "core/rng.hpp"
+#include "core/timer.hpp"
+#include "fracture/crack_pattern.hpp"
+#include "sim/fem_model.hpp"
+
+namespace crackle::fracture {
+
+/// Parameters of the fracture loop ([simulation] preset keys).
+struct FractureOptions {
+    double duration = 1.0;          ///< simulated time
+    double min_element_size = 0.0;  ///< subdivide candidates longer than this (m); 0 = never
+    std::size_t max_events = 1000000;
+    double time_tolerance = 1e-9;   ///< bisection stops at this fraction of the duration
+    /// Re-solve only around each change (§5.8), with a global relaxation at every time step;
+    /// false re-solves globally after every event.
+    bool local_relaxation = true;
+};
+
+/// What the run did and where the time went.
+struct RunStats {
+    std::size_t removals = 0, subdivisions = 0, time_steps = 0, solves = 0;
+    long long solver_iterations = 0;
+    std::size_t local_solves = 0, local_nodes = 0, local_fallbacks = 0;
+    double solve_seconds = 0, stress_seconds = 0, total_seconds = 0;
+};
+
+/// Runs the element-removal model from the model's current time to `options.duration`.
+/// Ties between equally stressed candidates are broken with `rng`.
+CrackPattern run_fem_remove(sim::FemModel& model, const FractureOptions& options, Rng& rng, RunStats* stats = nullptr);
+
+/// Builds the crack pattern of a model's current state (shared by the FEM methods).
+CrackPattern pattern_from_model(const sim::FemModel& model, const std::string& method, std::size_t elements_initial);
+
+}  // namespace crackle::fracture

@@ -1,0 +1,204 @@
+#include "fracture/statistics.hpp"
+
+#include <Eigen/Eigenvalues>
+
+#include <algorithm>
+#include <complex>
+
+namespace crackle::fracture {
+
+using mesh::face_id;
+using mesh::FaceId;
+using mesh::ix;
+
+namespace {
+
+/// Local 2D coordinates of a face corner in the reference configuration.
+Vec2 corner_2d(const CrackPattern& p, FaceId f, int k, const Vec3& origin, const mesh::TangentFrame& frame)
+{
+    if (p.surface.periodic()) return p.mesh.corner_domain(f, k);
+    const Vec3 d = p.mesh.corner_position(f, k) - origin;
+    return Vec2(d.dot(frame.e_u), d.dot(frame.e_v));
+}
+
+Vec2 face_centroid_2d(const CrackPattern& p, FaceId f)
+{
+    if (p.surface.periodic())
+        return (p.mesh.corner_domain(f, 0) + p.mesh.corner_domain(f, 1) + p.mesh.corner_domain(f, 2)) / 3.0;
+    return Vec2::Zero();  // sphere: handled with 3D positions
+}
+
+/// The crack network as a graph for junction statistics: removed faces linked to removed
+/// neighbours (element removal), or crack vertices linked along crack edges (splitting).
+struct SkeletonGraph {
+    std::vector<std::vector<std::uint32_t>> adjacency;
+    std::vector<Vec3> position;  // 3D reference position (sphere) or (x, y, 0) domain position
+};
+
+SkeletonGraph removal_skeleton(const CrackPattern& p)
+{
+    SkeletonGraph g;
+    const std::size_t nf = p.mesh.num_faces();
+    std::vector<std::int64_t> node_of(nf, -1);
+    for (std::size_t f = 0; f < nf; ++f) {
+        if (!p.removed[f]) continue;
+        node_of[f] = static_cast<std::int64_t>(g.position.size());
+        const auto pts = p.mesh.face_positions(face_id(f));
+        if (p.surface.periodic()) {
+            const Vec2 c = face_centroid_2d(p, face_id(f));
+            g.position.emplace_back(c.x(), c.y(), 0.0);
+        } else {
+            g.position.push_back((pts[0] + pts[1] + pts[2]) / 3.0);
+        }
+    }
+    g.adjacency.resize(g.position.size());
+    for (std::size_t f = 0; f < nf; ++f) {
+        if (node_of[f] < 0) continue;
+        for (int k = 0; k < 3; ++k) {
+            const mesh::FaceNeighbor nb = p.mesh.neighbor(face_id(f), k);
+            if (nb.face == mesh::NO_FACE || node_of[ix(nb.face)] < 0) continue;
+            g.adjacency[static_cast<std::size_t>(node_of[f])].push_back(static_cast<std::uint32_t>(node_of[ix(nb.face)]));
+        }
+    }
+    return g;
+}
+
+/// Difference b − a in the local frame at a, with the minimum image on periodic domains.
+Vec2 local_difference(const CrackPattern& p, const Vec3& a, const Vec3& b)
+{
+    if (p.surface.periodic()) {
+        Vec2 d(b.x() - a.x(), b.y() - a.y());
+        const Vec2 L = p.mesh.period;
+        d.x() -= L.x() * std::round(d.x() / L.x());
+        d.y() -= L.y() * std::round(d.y() / L.y());
+        return d;
+    }
+    const mesh::TangentFrame fr = p.surface.frame(a);
+    const Vec3 d = b - a;
+    return Vec2(d.dot(fr.e_u), d.dot(fr.e_v));
+}
+
+struct JunctionCounts {
+    int total = 0, t = 0, y = 0;
+};
+
+JunctionCounts junction_counts(const CrackPattern& p, const SkeletonGraph& g)
+{
+    constexpr int BRANCH_STEPS = 2;  // ≈ two element lengths (digest §7.1)
+    JunctionCounts counts;
+    for (std::size_t j = 0; j < g.adjacency.size(); ++j) {
+        if (g.adjacency[j].size() != 3) continue;
+        std::array<double, 3> angle{};
+        for (std::size_t b = 0; b < 3; ++b) {
+            std::uint32_t prev = static_cast<std::uint32_t>(j), cur = g.adjacency[j][b];
+            for (int s = 1; s < BRANCH_STEPS && g.adjacency[cur].size() == 2; ++s) {
+                const std::uint32_t next = g.adjacency[cur][0] == prev ? g.adjacency[cur][1] : g.adjacency[cur][0];
+                prev = cur;
+                cur = next;
+            }
+            const Vec2 d = local_difference(p, g.position[j], g.position[cur]);
+            angle[b] = std::atan2(d.y(), d.x());
+        }
+        std::sort(angle.begin(), angle.end());
+        const double a1 = (angle[1] - angle[0]) * RAD_TO_DEG, a2 = (angle[2] - angle[1]) * RAD_TO_DEG;
+        const double a3 = 360.0 - a1 - a2;
+        ++counts.total;
+        switch (classify_junction(a1, a2, a3)) {
+        case JunctionKind::T: ++counts.t; break;
+        case JunctionKind::Y: ++counts.y; break;
+        case JunctionKind::Other: break;
+        }
+    }
+    return counts;
+}
+
+}  // namespace
+
+JunctionKind classify_junction(double a, double b, double c)
+{
+    const double largest = std::max({a, b, c}), smallest = std::min({a, b, c});
+    if (largest >= 155.0) return JunctionKind::T;
+    if (largest <= 145.0 && smallest >= 95.0) return JunctionKind::Y;
+    return JunctionKind::Other;
+}
+
+std::vector<CrackSegment> crack_segments(const CrackPattern& p)
+{
+    std::vector<CrackSegment> segments;
+    for (std::size_t fi = 0; fi < p.mesh.num_faces(); ++fi) {
+        if (p.removed[fi]) continue;
+        const FaceId f = face_id(fi);
+        for (int k = 0; k < 3; ++k) {
+            const mesh::FaceNeighbor nb = p.mesh.neighbor(f, k);
+            if (nb.face != mesh::NO_FACE && !p.removed[ix(nb.face)]) continue;
+            CrackSegment s;
+            const Vec3 mid3 = 0.5 * (p.mesh.corner_position(f, k) + p.mesh.corner_position(f, (k + 1) % 3));
+            const mesh::TangentFrame frame = p.surface.periodic() ? mesh::TangentFrame{} : p.surface.frame(mid3);
+            s.a = corner_2d(p, f, k, mid3, frame);
+            s.b = corner_2d(p, f, (k + 1) % 3, mid3, frame);
+            s.weight = 0.5;
+            if (p.surface.periodic()) {
+                const Vec2 m = 0.5 * (s.a + s.b);
+                s.uv = Vec2(wrap(m.x() / p.mesh.period.x(), 1.0), wrap(m.y() / p.mesh.period.y(), 1.0));
+            } else {
+                s.uv = p.surface.uv(p.surface.project(mid3));
+            }
+            segments.push_back(s);
+        }
+    }
+    return segments;
+}
+
+PatternStatistics pattern_statistics(const CrackPattern& p)
+{
+    PatternStatistics st;
+    st.fragments = p.num_fragments;
+    double intact_area = 0;
+    st.min_angle_deg = 180.0;
+    for (std::size_t f = 0; f < p.mesh.num_faces(); ++f) {
+        const double a = p.mesh.face_area(face_id(f));
+        st.total_area += a;
+        if (p.removed[f]) continue;
+        intact_area += a;
+        const auto ang = p.mesh.face_angles(face_id(f));
+        st.min_angle_deg = std::min(st.min_angle_deg, *std::min_element(ang.begin(), ang.end()) * RAD_TO_DEG);
+    }
+    st.mean_fragment_area = st.fragments > 0 ? intact_area / st.fragments : 0.0;
+
+    // === Orientation tensor M = Σ ℓ t tᵀ / Σ ℓ and ψ6 (digest §7.1)
+    Mat2 M = Mat2::Zero();
+    std::complex<double> hexatic = 0;
+    double axial = 0;
+    for (const CrackSegment& s : crack_segments(p)) {
+        const double len = s.weight * s.length();
+        if (len <= 0) continue;
+        const Vec2 t = (s.b - s.a).normalized();
+        M += len * t * t.transpose();
+        const double theta = std::atan2(t.y(), t.x());
+        hexatic += len * std::polar(1.0, 6.0 * theta);
+        if (std::abs(t.y()) > std::cos(30.0 * DEG_TO_RAD)) axial += len;
+        st.crack_length += len;
+    }
+    if (st.crack_length > 0) {
+        M /= st.crack_length;
+        Eigen::SelfAdjointEigenSolver<Mat2> eig(M);
+        const double l1 = eig.eigenvalues()[1], l2 = eig.eigenvalues()[0];
+        st.anisotropy = (l1 + l2) > 0 ? (l1 - l2) / (l1 + l2) : 0.0;
+        const Vec2 d = eig.eigenvectors().col(1);
+        st.dominant_angle_deg = wrap(std::atan2(d.y(), d.x()) * RAD_TO_DEG, 180.0);
+        st.psi6 = std::abs(hexatic) / st.crack_length;
+        st.axial_fraction = axial / st.crack_length;
+    }
+    st.crack_length_per_area = st.total_area > 0 ? st.crack_length / st.total_area : 0.0;
+
+    // === Junctions of the crack network
+    const JunctionCounts jc = junction_counts(p, removal_skeleton(p));
+    st.junctions = jc.total;
+    if (jc.total > 0) {
+        st.t_junction_fraction = static_cast<double>(jc.t) / jc.total;
+        st.y_junction_fraction = static_cast<double>(jc.y) / jc.total;
+    }
+    return st;
+}
+
+}  // namespace crackle::fracture
