@@ -218,6 +218,7 @@ int simulate_command(const SimulateArgs& args, const GlobalOptions& global, std:
     report["local_solves"] = run.local_solves;
     report["local_mean_nodes"] = run.local_solves ? double(run.local_nodes) / double(run.local_solves) : 0.0;
     report["local_fallbacks"] = run.local_fallbacks;
+    report["global_cleanups"] = run.global_cleanups;
     report["crack_length"] = st.crack_length;
     report["junctions"] = st.junctions;
     report["axial_fraction"] = st.axial_fraction;

@@ -25,7 +25,7 @@ struct FractureOptions {
 struct RunStats {
     std::size_t removals = 0, subdivisions = 0, time_steps = 0, solves = 0;
     long long solver_iterations = 0;
-    std::size_t local_solves = 0, local_nodes = 0, local_fallbacks = 0;
+    std::size_t local_solves = 0, local_nodes = 0, local_fallbacks = 0, global_cleanups = 0;
     double solve_seconds = 0, stress_seconds = 0, total_seconds = 0;
 };
 

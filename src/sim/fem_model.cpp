@@ -527,12 +527,14 @@ SolveStats FemModel::relax_field_local(Unknown u, const std::vector<std::size_t>
         stats.seconds = timer.seconds();
         return stats;
     }
-    radius = std::max(radius, static_cast<double>(options.min_radius));
+    constexpr double MAX_RADIUS = 256.0;  // hops; beyond this the global solve is cheaper anyway
+    radius = std::clamp(radius, static_cast<double>(options.min_radius), MAX_RADIUS);
     std::vector<std::size_t> sources = seeds;
     // Scratch marks, kept between calls and reset only where used: O(local) per call.
     std::vector<int>& hop = m_scratch_hop;
     std::vector<int>& local_index = m_scratch_index;
     std::vector<char>& touched = m_scratch_touched;
+    std::vector<Vec3>& pushed = m_scratch_pushed;
     hop.resize(nv, -1);
     local_index.resize(nv, -1);
     touched.resize(nv, 0);
@@ -565,7 +567,7 @@ SolveStats FemModel::relax_field_local(Unknown u, const std::vector<std::size_t>
             SolveStats global = relax_field(u);
             global.fell_back = true;
             global.seconds = timer.seconds();
-            radius *= 2.0;
+            radius = std::min(2.0 * radius, MAX_RADIUS);
             return global;
         }
 
@@ -596,7 +598,9 @@ SolveStats FemModel::relax_field_local(Unknown u, const std::vector<std::size_t>
         stats.iterations += 1;
         stats.nodes = std::max(stats.nodes, set.size());
 
-        // === Apply: x_S += Δ; r −= K[:, S] Δ (K symmetric: walk the rows of S)
+        // === Apply: x_S += Δ; r −= K[:, S] Δ (K symmetric: walk the rows of S). The force
+        // this pushes onto the nodes just outside the set is what is left to resolve.
+        std::vector<std::size_t> outside;
         for (std::size_t i = 0; i < set.size(); ++i) {
             const std::size_t v = set[i];
             const Vec3 d = dx.segment<3>(static_cast<Eigen::Index>(3 * i));
@@ -608,24 +612,34 @@ SolveStats FemModel::relax_field_local(Unknown u, const std::vector<std::size_t>
             }
             for (int c = 0; c < 3; ++c) {
                 const auto row = static_cast<Eigen::Index>(3 * v) + c;
-                for (SpMatR::InnerIterator it(m_K, row); it; ++it) fd.residual[it.col()] -= it.value() * d[c];
+                for (SpMatR::InnerIterator it(m_K, row); it; ++it) {
+                    const auto w = static_cast<std::size_t>(it.col() / 3);
+                    fd.residual[it.col()] -= it.value() * d[c];
+                    if (local_index[w] < 0) {
+                        if (pushed.size() < nv) pushed.resize(nv, Vec3::Zero());
+                        if (pushed[w] == Vec3::Zero()) outside.push_back(w);
+                        pushed[w][it.col() % 3] -= it.value() * d[c];
+                    }
+                }
             }
         }
         for (std::size_t v : set) local_index[v] = -1;
 
-        // === Radius control (§5.8.3): the largest force left, in and just outside the set
+        // === Radius control (§5.8.3): grow while the pushed-out forces are not negligible
+        // next to the change (the thesis checks the residual; forces left over from earlier
+        // events are not this change's to resolve).
         std::vector<std::size_t> unresolved;
-        for (std::size_t v : set)
-            for (std::uint32_t f : m_incident[v])
-                for (VertexId w : m_mesh.faces[face_id(f)].v)
-                    if (m_alive_degree[ix(w)] > 0 && force(ix(w)) > tol) unresolved.push_back(ix(w));
+        for (std::size_t w : outside) {
+            if (m_alive_degree[w] > 0 && pushed[w].norm() > tol) unresolved.push_back(w);
+            pushed[w] = Vec3::Zero();
+        }
         for (std::size_t v : set) hop[v] = -1;
         if (unresolved.empty()) {
             if (first_try) radius = std::max(static_cast<double>(options.min_radius), 0.9 * radius);
             break;
         }
         first_try = false;
-        radius *= 2.0;
+        radius = std::min(2.0 * radius, MAX_RADIUS);
         std::sort(unresolved.begin(), unresolved.end());
         unresolved.erase(std::unique(unresolved.begin(), unresolved.end()), unresolved.end());
         sources = seeds;
