@@ -7,8 +7,8 @@
 #include "core/timer.hpp"
 #include "fracture/preview.hpp"
 #include "fracture/statistics.hpp"
-#include "io/png.hpp"
 #include "io/obj.hpp"
+#include "io/png.hpp"
 #include "mesh/surface_mesh.hpp"
 #include "sim/wedge_mesh.hpp"
 
@@ -127,8 +127,7 @@ namespace crackle::app {
 
 namespace {
 
-std::string events_csv(const fracture::CrackPattern& p)
-{
+std::string events_csv(const fracture::CrackPattern& p) {
     std::string csv = "time,x,y,z,u,v,kind,ratio\n";
     char buf[256];
     for (const fracture::Event& e : p.events) {
@@ -136,17 +135,16 @@ std::string events_csv(const fracture::CrackPattern& p)
                                              : p.surface.uv(e.position);
         // On the cylinder the position is 3D; take uv from the surface.
         const Vec2 uvc = p.surface.kind() == mesh::SurfaceKind::Cylinder ? p.surface.uv(e.position) : uv;
-        std::snprintf(buf, sizeof buf, "%.9g,%.9g,%.9g,%.9g,%.6f,%.6f,%s,%.6f\n", e.time, e.position.x(), e.position.y(),
-                      e.position.z(), uvc.x(), uvc.y(), e.kind.c_str(), e.ratio);
+        std::snprintf(buf, sizeof buf, "%.9g,%.9g,%.9g,%.9g,%.6f,%.6f,%s,%.6f\n", e.time, e.position.x(),
+                      e.position.y(), e.position.z(), uvc.x(), uvc.y(), e.kind.c_str(), e.ratio);
         csv += buf;
     }
     return csv;
 }
 
-}  // namespace
+} // namespace
 
-int simulate_command(const SimulateArgs& args, const GlobalOptions& global, std::ostream& out)
-{
+int simulate_command(const SimulateArgs& args, const GlobalOptions& global, std::ostream& out) {
     Timer total;
     StepTimes times;
     Timer step;
@@ -170,7 +168,8 @@ int simulate_command(const SimulateArgs& args, const GlobalOptions& global, std:
     times.emplace_back("fracture", step.seconds());
     times.emplace_back("fracture.solve", run.solve_seconds);
     times.emplace_back("fracture.stress", run.stress_seconds);
-    times.emplace_back("fracture.bookkeeping", std::max(0.0, run.total_seconds - run.solve_seconds - run.stress_seconds));
+    times.emplace_back("fracture.bookkeeping",
+                       std::max(0.0, run.total_seconds - run.solve_seconds - run.stress_seconds));
 
     step.reset();
     const fracture::PatternStatistics st = fracture::pattern_statistics(pattern);
@@ -204,7 +203,8 @@ int simulate_command(const SimulateArgs& args, const GlobalOptions& global, std:
     report["y_junction_fraction"] = st.y_junction_fraction;
     report["min_angle_deg"] = st.min_angle_deg;
     Json wall = Json::object();
-    for (const auto& [name, seconds] : times) wall[name] = seconds;
+    for (const auto& [name, seconds] : times)
+        wall[name] = seconds;
     report["wall_seconds"] = wall;
     report["peak_memory_mb"] = peak_memory_mb();
     // Beyond the fixed fields: details for researchers.
@@ -231,20 +231,23 @@ int simulate_command(const SimulateArgs& args, const GlobalOptions& global, std:
             << pattern.method << "), seed " << scene->seed << "\n";
         out << "  elements     " << elements_initial << " initial, " << model.num_alive() << " intact at the end ("
             << run.removals << " removed, " << run.subdivisions << " subdivisions)\n";
-        out << "  time         " << fmt("%.4g", pattern.final_time) << " of " << fmt("%.4g", preset.number("simulation.duration"))
+        out << "  time         " << fmt("%.4g", pattern.final_time) << " of "
+            << fmt("%.4g", preset.number("simulation.duration"))
             << (pattern.events_capped ? " (stopped at simulation.max_events)" : "") << "; " << run.time_steps
             << " time steps, " << run.solves << " solves\n";
-        out << "  fragments    " << st.fragments << ", mean area " << fmt("%.4g", st.mean_fragment_area * 1e4) << " cm2\n";
+        out << "  fragments    " << st.fragments << ", mean area " << fmt("%.4g", st.mean_fragment_area * 1e4)
+            << " cm2\n";
         out << "  cracks       " << fmt("%.4g", st.crack_length_per_area) << " m/m2, anisotropy "
             << fmt("%.3f", st.anisotropy) << " at " << fmt("%.1f", st.dominant_angle_deg) << " deg, psi6 "
             << fmt("%.3f", st.psi6) << "\n";
         out << "  junctions    " << st.junctions << " (T " << fmt("%.2f", st.t_junction_fraction) << ", Y "
             << fmt("%.2f", st.y_junction_fraction) << ")\n";
         out << "  wall time   ";
-        for (const auto& [name, seconds] : times) out << " " << name << " " << fmt("%.3f", seconds) << " s;";
+        for (const auto& [name, seconds] : times)
+            out << " " << name << " " << fmt("%.3f", seconds) << " s;";
         out << "\n  peak memory  " << fmt("%.1f", peak_memory_mb()) << " MiB\n";
     }
     return 0;
 }
 
-}  // namespace crackle::app
+} // namespace crackle::app

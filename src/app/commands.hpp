@@ -29,9 +29,9 @@ int mesh_command(const MeshArgs& args, const GlobalOptions& global, std::ostream
 
 struct SimulateArgs {
     io::PresetRequest preset;
-    std::string json_path;    ///< report (design.md field names)
-    std::string events_path;  ///< CSV of fracture events
-    std::string png_path;     ///< quick preview of the crack pattern in texture space
+    std::string json_path;   ///< report (design.md field names)
+    std::string events_path; ///< CSV of fracture events
+    std::string png_path;    ///< quick preview of the crack pattern in texture space
     int png_size = 512;
 };
 

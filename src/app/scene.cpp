@@ -101,8 +101,7 @@ mesh::SurfaceMesh discretize_scene(const Scene& scene, StepTimes* times) {
     return mesh::discretize(scene.surface, scene.discretize, spacing, rng, times);
 }
 
-sim::FemOptions fem_options(const io::Preset& preset)
-{
+sim::FemOptions fem_options(const io::Preset& preset) {
     sim::FemOptions o;
     o.solver = preset.text("simulation.solver") == "direct" ? sim::SolverKind::Direct : sim::SolverKind::Cg;
     o.tolerance = preset.number("simulation.solver_tolerance");
@@ -110,8 +109,7 @@ sim::FemOptions fem_options(const io::Preset& preset)
     return o;
 }
 
-fracture::FractureOptions fracture_options(const io::Preset& preset)
-{
+fracture::FractureOptions fracture_options(const io::Preset& preset) {
     fracture::FractureOptions o;
     o.duration = preset.number("simulation.duration");
     o.min_element_size = preset.number("simulation.min_element_size");
@@ -119,18 +117,15 @@ fracture::FractureOptions fracture_options(const io::Preset& preset)
     return o;
 }
 
-sim::LayerFields layer_fields(const Scene& scene)
-{
+sim::LayerFields layer_fields(const Scene& scene) {
     return {&scene.thickness, &scene.young_modulus, &scene.threshold_stress, &scene.toughness, scene.poisson_ratio};
 }
 
-void require_available_method(const io::Preset& preset)
-{
+void require_available_method(const io::Preset& preset) {
     const std::string method = preset.text("simulation.method");
     if (method == "fem-remove") return;
     throw InputError(preset.entry("simulation.method").source.text(),
-                     "simulation.method = \"" + method + "\" is not available in this version",
-                     "use \"fem-remove\"");
+                     "simulation.method = \"" + method + "\" is not available in this version", "use \"fem-remove\"");
 }
 
-}  // namespace crackle::app
+} // namespace crackle::app

@@ -4,9 +4,9 @@
 
 #include "fracture/fem_remove.hpp"
 #include "io/preset.hpp"
-#include "sim/fem_model.hpp"
 #include "mesh/discretize.hpp"
 #include "mesh/surface.hpp"
+#include "sim/fem_model.hpp"
 #include "sim/growth_field.hpp"
 #include "sim/property_field.hpp"
 #include "sim/reference_shape.hpp"

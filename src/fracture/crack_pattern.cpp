@@ -2,16 +2,14 @@
 
 namespace crackle::fracture {
 
-Vec3 CrackPattern::deformed_corner(mesh::FaceId f, int k) const
-{
+Vec3 CrackPattern::deformed_corner(mesh::FaceId f, int k) const {
     const mesh::Face& face = mesh.faces[f];
     const Vec2i& o = face.offset[static_cast<std::size_t>(k)];
     return deformed[mesh::ix(face.v[static_cast<std::size_t>(k)])] + o.x() * deformed_period[0]
            + o.y() * deformed_period[1];
 }
 
-void label_fragments(CrackPattern& p)
-{
+void label_fragments(CrackPattern& p) {
     const std::size_t nf = p.mesh.num_faces();
     p.fragment.assign(nf, -1);
     p.num_fragments = 0;
@@ -36,4 +34,4 @@ void label_fragments(CrackPattern& p)
     }
 }
 
-}  // namespace crackle::fracture
+} // namespace crackle::fracture

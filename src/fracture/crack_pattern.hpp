@@ -2,31 +2,31 @@
 /// @file The crack pattern: what every fracture method produces and every later stage
 /// (statistics, post-processing, baking, export) consumes (design.md, stage 4).
 
-#include <array>
-#include <string>
-#include <vector>
-
 #include "core/math.hpp"
 #include "mesh/surface.hpp"
 #include "mesh/surface_mesh.hpp"
+
+#include <array>
+#include <string>
+#include <vector>
 
 namespace crackle::fracture {
 
 /// One side of a crack: an edge of an intact face whose other side is cracked (a removed
 /// element, or the other lip of a split).
 struct CrackEdge {
-    mesh::FaceId face = mesh::NO_FACE;  ///< the intact face the edge belongs to
-    int edge = -1;                      ///< edge index in that face
-    double opening = 0;                 ///< crack width at the top surface, deformed (m)
-    double depth = 0;                   ///< crack depth (m); the layer thickness for two-layer FEM
+    mesh::FaceId face = mesh::NO_FACE; ///< the intact face the edge belongs to
+    int edge = -1;                     ///< edge index in that face
+    double opening = 0;                ///< crack width at the top surface, deformed (m)
+    double depth = 0;                  ///< crack depth (m); the layer thickness for two-layer FEM
 };
 
 /// A fracture event, for temporal sequences (Fig. 5.30) and `--events`.
 struct Event {
     double time = 0;
-    Vec3 position = Vec3::Zero();  ///< reference (t = 0) position on the background
-    std::string kind;              ///< "remove", "subdivide", "split", "break"
-    double ratio = 0;              ///< stress / threshold that triggered it
+    Vec3 position = Vec3::Zero(); ///< reference (t = 0) position on the background
+    std::string kind;             ///< "remove", "subdivide", "split", "break"
+    double ratio = 0;             ///< stress / threshold that triggered it
 };
 
 struct CrackPattern {
@@ -34,17 +34,17 @@ struct CrackPattern {
     mesh::Surface surface{mesh::SurfaceOptions{}};
     /// Top-surface topology; positions and domain are the reference (t = 0) background.
     mesh::SurfaceMesh mesh;
-    std::vector<Vec3> deformed;          ///< #V final top-node positions (canonical copies)
-    std::array<Vec3, 2> deformed_period = {Vec3::Zero(), Vec3::Zero()};  ///< final period vectors
-    std::vector<double> thickness;       ///< #V layer thickness (m)
-    std::vector<char> removed;           ///< #F 1 where an element was removed (crack material)
-    std::vector<int> fragment;           ///< #F fragment label, −1 on removed faces
+    std::vector<Vec3> deformed; ///< #V final top-node positions (canonical copies)
+    std::array<Vec3, 2> deformed_period = {Vec3::Zero(), Vec3::Zero()}; ///< final period vectors
+    std::vector<double> thickness;                                      ///< #V layer thickness (m)
+    std::vector<char> removed; ///< #F 1 where an element was removed (crack material)
+    std::vector<int> fragment; ///< #F fragment label, −1 on removed faces
     int num_fragments = 0;
     std::vector<CrackEdge> cracks;
     std::vector<Event> events;
     double final_time = 0;
     std::size_t elements_initial = 0;
-    bool events_capped = false;  ///< the run stopped at the event limit before its duration
+    bool events_capped = false; ///< the run stopped at the event limit before its duration
 
     /// Deformed 3D position of a face corner (periodic shift applied).
     Vec3 deformed_corner(mesh::FaceId f, int k) const;
@@ -54,4 +54,4 @@ struct CrackPattern {
 /// intact); fills `fragment` and `num_fragments`. Deterministic: labels follow face order.
 void label_fragments(CrackPattern& pattern);
 
-}  // namespace crackle::fracture
+} // namespace crackle::fracture

@@ -23,16 +23,14 @@ class StressCache {
 public:
     explicit StressCache(const sim::FemModel& model) : m_model(model) {}
 
-    void resize()
-    {
+    void resize() {
         const std::size_t n = m_model.mesh().num_faces();
         m_s0.resize(n);
         m_rate.resize(n);
         m_ratio.resize(n, 0.0);
     }
 
-    void refresh(std::size_t f, bool rate = true)
-    {
+    void refresh(std::size_t f, bool rate = true) {
         if (!m_model.alive(face_id(f))) {
             m_ratio[f] = 0.0;
             return;
@@ -42,22 +40,20 @@ public:
         m_ratio[f] = ratio_at(f, 0.0);
     }
 
-    void refresh_rate(std::size_t f)
-    {
+    void refresh_rate(std::size_t f) {
         if (m_model.alive(face_id(f))) m_rate[f] = m_model.top_stress_rate(face_id(f));
     }
 
-    void refresh_all()
-    {
+    void refresh_all() {
         resize();
-        for (std::size_t f = 0; f < m_s0.size(); ++f) refresh(f);
+        for (std::size_t f = 0; f < m_s0.size(); ++f)
+            refresh(f);
     }
 
     /// Re-evaluates the elements around the given vertices (§5.8.4: recompute stresses only
     /// where nodes moved), skipping those whose nodes moved too little to change their stress
     /// by 1e-7 of the threshold. `rates` re-evaluates σ̇ instead of σ.
-    std::size_t refresh_around(const std::vector<std::size_t>& vertices, bool rates = false)
-    {
+    std::size_t refresh_around(const std::vector<std::size_t>& vertices, bool rates = false) {
         const auto& update = m_model.last_update();
         std::size_t count = 0;
         ++m_stamp;
@@ -83,18 +79,17 @@ public:
     }
 
     /// Moves every cached stress forward by dt along its rate.
-    void advance(double dt)
-    {
+    void advance(double dt) {
         for (std::size_t f = 0; f < m_s0.size(); ++f) {
             if (!m_model.alive(face_id(f))) continue;
-            for (std::size_t k = 0; k < 3; ++k) m_s0[f][k] += dt * m_rate[f][k];
+            for (std::size_t k = 0; k < 3; ++k)
+                m_s0[f][k] += dt * m_rate[f][k];
             m_ratio[f] = ratio_at(f, 0.0);
         }
     }
 
     /// Largest top principal stress over threshold, dt after the cache's time.
-    double ratio_at(std::size_t f, double dt) const
-    {
+    double ratio_at(std::size_t f, double dt) const {
         double best = -std::numeric_limits<double>::infinity();
         for (std::size_t k = 0; k < 3; ++k) {
             const sim::wedge::Vec6 s = dt == 0.0 ? m_s0[f][k] : sim::wedge::Vec6(m_s0[f][k] + dt * m_rate[f][k]);
@@ -106,8 +101,7 @@ public:
     double ratio(std::size_t f) const { return m_ratio[f]; }
 
     /// (lower bound of the time until the element can reach its threshold, element), sorted.
-    std::vector<std::pair<double, std::size_t>> earliest_crossings() const
-    {
+    std::vector<std::pair<double, std::size_t>> earliest_crossings() const {
         auto frobenius = [](const sim::wedge::Vec6& v) {
             return std::sqrt(sqr(v[0]) + sqr(v[1]) + sqr(v[2]) + 2 * (sqr(v[3]) + sqr(v[4]) + sqr(v[5])));
         };
@@ -119,8 +113,10 @@ public:
             double bound = std::numeric_limits<double>::infinity();
             for (std::size_t k = 0; k < 3; ++k) {
                 const double s = frobenius(m_s0[f][k]), r = frobenius(m_rate[f][k]);
-                if (s >= thr) bound = 0.0;
-                else if (r > 0) bound = std::min(bound, (thr - s) / r);
+                if (s >= thr)
+                    bound = 0.0;
+                else if (r > 0)
+                    bound = std::min(bound, (thr - s) / r);
             }
             if (std::isfinite(bound)) out.emplace_back(bound, f);
         }
@@ -143,8 +139,7 @@ struct Candidate {
 };
 
 /// The element with the highest ratio above 1; ties (within 1e-12) broken by the RNG.
-bool pick_candidate(const sim::FemModel& model, const StressCache& cache, Rng& rng, Candidate& out)
-{
+bool pick_candidate(const sim::FemModel& model, const StressCache& cache, Rng& rng, Candidate& out) {
     double best = 1.0;
     std::vector<std::size_t> ties;
     for (std::size_t f = 0; f < cache.size(); ++f) {
@@ -165,25 +160,23 @@ bool pick_candidate(const sim::FemModel& model, const StressCache& cache, Rng& r
 }
 
 /// Hops that cover ln(1/tol)·1.6 mean thicknesses (the decay length of a local change).
-double initial_radius(const sim::FemModel& model, double tolerance)
-{
+double initial_radius(const sim::FemModel& model, double tolerance) {
     double h = 0;
-    for (std::size_t v = 0; v < model.mesh().num_vertices(); ++v) h += model.vertex_thickness(mesh::vertex_id(v));
+    for (std::size_t v = 0; v < model.mesh().num_vertices(); ++v)
+        h += model.vertex_thickness(mesh::vertex_id(v));
     h /= static_cast<double>(std::max<std::size_t>(model.mesh().num_vertices(), 1));
     const double edge = mesh::mesh_quality(model.mesh()).edge_mean;
     return std::clamp(std::ceil(1.6 * std::log(1.0 / tolerance) * h / edge), 2.0, 64.0);
 }
 
-Vec3 reference_centroid(const sim::FemModel& model, FaceId f)
-{
+Vec3 reference_centroid(const sim::FemModel& model, FaceId f) {
     const auto p = model.mesh().face_positions(f);
     return (p[0] + p[1] + p[2]) / 3.0;
 }
 
-}  // namespace
+} // namespace
 
-CrackPattern pattern_from_model(const sim::FemModel& model, const std::string& method, std::size_t elements_initial)
-{
+CrackPattern pattern_from_model(const sim::FemModel& model, const std::string& method, std::size_t elements_initial) {
     CrackPattern p;
     p.method = method;
     p.surface = model.surface();
@@ -201,7 +194,8 @@ CrackPattern pattern_from_model(const sim::FemModel& model, const std::string& m
         p.deformed_period[static_cast<std::size_t>(i)] =
             model.growth().period_shift(p.mesh.period_vectors[static_cast<std::size_t>(i)], model.time());
     p.removed.resize(nf);
-    for (std::size_t f = 0; f < nf; ++f) p.removed[f] = model.alive(face_id(f)) ? 0 : 1;
+    for (std::size_t f = 0; f < nf; ++f)
+        p.removed[f] = model.alive(face_id(f)) ? 0 : 1;
     label_fragments(p);
     // Crack lips: intact edges facing a removed element; the opening is the removed
     // element's deformed height over that edge, its depth the layer thickness.
@@ -219,16 +213,16 @@ CrackPattern pattern_from_model(const sim::FemModel& model, const std::string& m
                 c.opening = (far - a).cross(b - a).norm() / std::max((b - a).norm(), 1e-300);
             }
             const auto& face = p.mesh.faces[c.face];
-            c.depth = 0.5 * (p.thickness[ix(face.v[static_cast<std::size_t>(k)])]
-                             + p.thickness[ix(face.v[static_cast<std::size_t>((k + 1) % 3)])]);
+            c.depth = 0.5
+                      * (p.thickness[ix(face.v[static_cast<std::size_t>(k)])]
+                         + p.thickness[ix(face.v[static_cast<std::size_t>((k + 1) % 3)])]);
             p.cracks.push_back(c);
         }
     }
     return p;
 }
 
-CrackPattern run_fem_remove(sim::FemModel& model, const FractureOptions& options, Rng& rng, RunStats* stats_out)
-{
+CrackPattern run_fem_remove(sim::FemModel& model, const FractureOptions& options, Rng& rng, RunStats* stats_out) {
     RunStats stats;
     Timer total;
     std::vector<Event> events;
@@ -240,10 +234,11 @@ CrackPattern run_fem_remove(sim::FemModel& model, const FractureOptions& options
     const sim::LocalRelaxOptions local_options;
     double radius = initial_radius(model, local_options.tolerance);
     double rate_radius = radius;
-    std::vector<std::size_t> rate_seeds;  // nodes whose rate is stale since the last time step
+    std::vector<std::size_t> rate_seeds; // nodes whose rate is stale since the last time step
     auto relax_near = [&](const std::vector<std::size_t>& seeds) {
         Timer timer;
-        const sim::SolveStats s = options.local_relaxation ? model.relax_local(seeds, radius, local_options) : model.relax();
+        const sim::SolveStats s =
+            options.local_relaxation ? model.relax_local(seeds, radius, local_options) : model.relax();
         stats.solver_iterations += s.iterations;
         ++stats.solves;
         if (options.local_relaxation) {
@@ -258,7 +253,8 @@ CrackPattern run_fem_remove(sim::FemModel& model, const FractureOptions& options
     auto vertices_of = [&](const std::vector<FaceId>& faces) {
         std::vector<std::size_t> vs;
         for (FaceId f : faces)
-            for (mesh::VertexId v : model.mesh().faces[f].v) vs.push_back(ix(v));
+            for (mesh::VertexId v : model.mesh().faces[f].v)
+                vs.push_back(ix(v));
         std::sort(vs.begin(), vs.end());
         vs.erase(std::unique(vs.begin(), vs.end()), vs.end());
         return vs;
@@ -304,7 +300,8 @@ CrackPattern run_fem_remove(sim::FemModel& model, const FractureOptions& options
                 cache.resize();
                 stats.stress_seconds += timer.seconds();
                 moved = relax_near(vertices_of(touched));
-                for (FaceId t : touched) cache.refresh(ix(t));  // new elements: σ and σ̇
+                for (FaceId t : touched)
+                    cache.refresh(ix(t)); // new elements: σ and σ̇
             } else {
                 model.remove_element(f);
                 ev.kind = "remove";
@@ -325,8 +322,9 @@ CrackPattern run_fem_remove(sim::FemModel& model, const FractureOptions& options
             std::sort(rate_seeds.begin(), rate_seeds.end());
             rate_seeds.erase(std::unique(rate_seeds.begin(), rate_seeds.end()), rate_seeds.end());
             Timer solve_timer;
-            const sim::SolveStats s = options.local_relaxation ? model.relax_rate_local(rate_seeds, rate_radius, local_options)
-                                                               : model.solve_rate();
+            const sim::SolveStats s = options.local_relaxation
+                                          ? model.relax_rate_local(rate_seeds, rate_radius, local_options)
+                                          : model.solve_rate();
             stats.solver_iterations += s.iterations;
             ++stats.solves;
             stats.solve_seconds += solve_timer.seconds();
@@ -373,7 +371,8 @@ CrackPattern run_fem_remove(sim::FemModel& model, const FractureOptions& options
             while (t_hi - t_lo > dt_min) {
                 const double mid = 0.5 * (t_lo + t_hi);
                 bool any = false;
-                for (std::size_t f : over) any = any || cache.ratio_at(f, mid - t0) > 1.0;
+                for (std::size_t f : over)
+                    any = any || cache.ratio_at(f, mid - t0) > 1.0;
                 (any ? t_hi : t_lo) = mid;
             }
             last_step = std::max(t_hi - t0, dt_min);
@@ -398,7 +397,7 @@ CrackPattern run_fem_remove(sim::FemModel& model, const FractureOptions& options
             stats.solves += 2;
             stats.solve_seconds += solve_timer.seconds();
             timer.reset();
-            cache.refresh_all();  // new B matrices: every stress changes
+            cache.refresh_all(); // new B matrices: every stress changes
         } else {
             cache.advance(t_hi - t0);
         }
@@ -414,4 +413,4 @@ CrackPattern run_fem_remove(sim::FemModel& model, const FractureOptions& options
     return pattern;
 }
 
-}  // namespace crackle::fracture
+} // namespace crackle::fracture

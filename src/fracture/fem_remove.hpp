@@ -12,10 +12,10 @@ namespace crackle::fracture {
 
 /// Parameters of the fracture loop ([simulation] preset keys).
 struct FractureOptions {
-    double duration = 1.0;          ///< simulated time
-    double min_element_size = 0.0;  ///< subdivide candidates longer than this (m); 0 = never
+    double duration = 1.0;         ///< simulated time
+    double min_element_size = 0.0; ///< subdivide candidates longer than this (m); 0 = never
     std::size_t max_events = 1000000;
-    double time_tolerance = 1e-9;   ///< bisection stops at this fraction of the duration
+    double time_tolerance = 1e-9; ///< bisection stops at this fraction of the duration
     /// Re-solve only around each change (§5.8), with a global relaxation at every time step;
     /// false re-solves globally after every event.
     bool local_relaxation = true;
@@ -36,4 +36,4 @@ CrackPattern run_fem_remove(sim::FemModel& model, const FractureOptions& options
 /// Builds the crack pattern of a model's current state (shared by the FEM methods).
 CrackPattern pattern_from_model(const sim::FemModel& model, const std::string& method, std::size_t elements_initial);
 
-}  // namespace crackle::fracture
+} // namespace crackle::fracture

@@ -6,8 +6,7 @@ namespace crackle::fracture {
 
 namespace {
 
-std::array<std::uint8_t, 3> fragment_colour(int label)
-{
+std::array<std::uint8_t, 3> fragment_colour(int label) {
     // A hash spread over pale hues, so neighbouring fragments differ.
     std::uint32_t h = static_cast<std::uint32_t>(label) * 2654435761u;
     h ^= h >> 15;
@@ -15,12 +14,12 @@ std::array<std::uint8_t, 3> fragment_colour(int label)
     return {c(0), c(8), c(16)};
 }
 
-void fill_triangle(RgbImage& img, const std::array<Vec2, 3>& uv, const std::array<std::uint8_t, 3>& colour)
-{
+void fill_triangle(RgbImage& img, const std::array<Vec2, 3>& uv, const std::array<std::uint8_t, 3>& colour) {
     const double W = img.width, H = img.height;
     // Pixel space: x = u·W, y = (1 − v)·H.
     std::array<Vec2, 3> p;
-    for (std::size_t k = 0; k < 3; ++k) p[k] = Vec2(uv[k].x() * W, (1.0 - uv[k].y()) * H);
+    for (std::size_t k = 0; k < 3; ++k)
+        p[k] = Vec2(uv[k].x() * W, (1.0 - uv[k].y()) * H);
     const double area = (p[1] - p[0]).x() * (p[2] - p[0]).y() - (p[2] - p[0]).x() * (p[1] - p[0]).y();
     if (std::abs(area) < 1e-12) return;
     const int x0 = std::max(0, static_cast<int>(std::floor(std::min({p[0].x(), p[1].x(), p[2].x()}))));
@@ -37,17 +36,18 @@ void fill_triangle(RgbImage& img, const std::array<Vec2, 3>& uv, const std::arra
                 w[k] = ((b - a).x() * (c - a).y() - (c - a).x() * (b - a).y()) / area;
             }
             if (w[0] < 0 || w[1] < 0 || w[2] < 0) continue;
-            std::uint8_t* px = &img.pixels[3 * (static_cast<std::size_t>(y) * static_cast<std::size_t>(img.width) + static_cast<std::size_t>(x))];
+            std::uint8_t* px = &img.pixels[3
+                                           * (static_cast<std::size_t>(y) * static_cast<std::size_t>(img.width)
+                                              + static_cast<std::size_t>(x))];
             px[0] = colour[0];
             px[1] = colour[1];
             px[2] = colour[2];
         }
 }
 
-}  // namespace
+} // namespace
 
-RgbImage preview_image(const CrackPattern& p, int size)
-{
+RgbImage preview_image(const CrackPattern& p, int size) {
     RgbImage img;
     img.width = img.height = size;
     img.pixels.assign(3 * static_cast<std::size_t>(size) * static_cast<std::size_t>(size), 20);
@@ -60,8 +60,9 @@ RgbImage preview_image(const CrackPattern& p, int size)
                 uv[static_cast<std::size_t>(k)] = Vec2(d.x() / p.mesh.period.x(), d.y() / p.mesh.period.y());
             }
         } else {
-            for (int k = 0; k < 3; ++k) uv[static_cast<std::size_t>(k)] = p.surface.uv(p.mesh.corner_position(f, k));
-            for (std::size_t k = 1; k < 3; ++k) {  // unwrap across the date line
+            for (int k = 0; k < 3; ++k)
+                uv[static_cast<std::size_t>(k)] = p.surface.uv(p.mesh.corner_position(f, k));
+            for (std::size_t k = 1; k < 3; ++k) { // unwrap across the date line
                 if (uv[k].x() - uv[0].x() > 0.5) uv[k].x() -= 1.0;
                 if (uv[k].x() - uv[0].x() < -0.5) uv[k].x() += 1.0;
             }
@@ -69,16 +70,18 @@ RgbImage preview_image(const CrackPattern& p, int size)
         const auto colour = p.removed[fi] ? std::array<std::uint8_t, 3>{25, 20, 18} : fragment_colour(p.fragment[fi]);
         // Shift the unwrapped triangle into the tile, then draw it and its wrapped copies.
         const Vec2 base(std::floor(uv[0].x()), std::floor(uv[0].y()));
-        for (auto& q : uv) q -= base;
+        for (auto& q : uv)
+            q -= base;
         const int dv_max = p.surface.periodic() ? 1 : 0;
         for (int du = -1; du <= 1; ++du)
             for (int dv = -dv_max; dv <= dv_max; ++dv) {
                 std::array<Vec2, 3> s = uv;
-                for (auto& q : s) q += Vec2(du, dv);
+                for (auto& q : s)
+                    q += Vec2(du, dv);
                 fill_triangle(img, s, colour);
             }
     }
     return img;
 }
 
-}  // namespace crackle::fracture
+} // namespace crackle::fracture

@@ -14,29 +14,26 @@ using mesh::ix;
 namespace {
 
 /// Local 2D coordinates of a face corner in the reference configuration.
-Vec2 corner_2d(const CrackPattern& p, FaceId f, int k, const Vec3& origin, const mesh::TangentFrame& frame)
-{
+Vec2 corner_2d(const CrackPattern& p, FaceId f, int k, const Vec3& origin, const mesh::TangentFrame& frame) {
     if (p.surface.periodic()) return p.mesh.corner_domain(f, k);
     const Vec3 d = p.mesh.corner_position(f, k) - origin;
     return Vec2(d.dot(frame.e_u), d.dot(frame.e_v));
 }
 
-Vec2 face_centroid_2d(const CrackPattern& p, FaceId f)
-{
+Vec2 face_centroid_2d(const CrackPattern& p, FaceId f) {
     if (p.surface.periodic())
         return (p.mesh.corner_domain(f, 0) + p.mesh.corner_domain(f, 1) + p.mesh.corner_domain(f, 2)) / 3.0;
-    return Vec2::Zero();  // sphere: handled with 3D positions
+    return Vec2::Zero(); // sphere: handled with 3D positions
 }
 
 /// The crack network as a graph for junction statistics: removed faces linked to removed
 /// neighbours (element removal), or crack vertices linked along crack edges (splitting).
 struct SkeletonGraph {
     std::vector<std::vector<std::uint32_t>> adjacency;
-    std::vector<Vec3> position;  // 3D reference position (sphere) or (x, y, 0) domain position
+    std::vector<Vec3> position; // 3D reference position (sphere) or (x, y, 0) domain position
 };
 
-SkeletonGraph removal_skeleton(const CrackPattern& p)
-{
+SkeletonGraph removal_skeleton(const CrackPattern& p) {
     SkeletonGraph g;
     const std::size_t nf = p.mesh.num_faces();
     std::vector<std::int64_t> node_of(nf, -1);
@@ -57,15 +54,15 @@ SkeletonGraph removal_skeleton(const CrackPattern& p)
         for (int k = 0; k < 3; ++k) {
             const mesh::FaceNeighbor nb = p.mesh.neighbor(face_id(f), k);
             if (nb.face == mesh::NO_FACE || node_of[ix(nb.face)] < 0) continue;
-            g.adjacency[static_cast<std::size_t>(node_of[f])].push_back(static_cast<std::uint32_t>(node_of[ix(nb.face)]));
+            g.adjacency[static_cast<std::size_t>(node_of[f])].push_back(
+                static_cast<std::uint32_t>(node_of[ix(nb.face)]));
         }
     }
     return g;
 }
 
 /// Difference b − a in the local frame at a, with the minimum image on periodic domains.
-Vec2 local_difference(const CrackPattern& p, const Vec3& a, const Vec3& b)
-{
+Vec2 local_difference(const CrackPattern& p, const Vec3& a, const Vec3& b) {
     if (p.surface.periodic()) {
         Vec2 d(b.x() - a.x(), b.y() - a.y());
         const Vec2 L = p.mesh.period;
@@ -82,9 +79,8 @@ struct JunctionCounts {
     int total = 0, t = 0, y = 0;
 };
 
-JunctionCounts junction_counts(const CrackPattern& p, const SkeletonGraph& g)
-{
-    constexpr int BRANCH_STEPS = 2;  // ≈ two element lengths (digest §7.1)
+JunctionCounts junction_counts(const CrackPattern& p, const SkeletonGraph& g) {
+    constexpr int BRANCH_STEPS = 2; // ≈ two element lengths (digest §7.1)
     JunctionCounts counts;
     for (std::size_t j = 0; j < g.adjacency.size(); ++j) {
         if (g.adjacency[j].size() != 3) continue;
@@ -104,26 +100,29 @@ JunctionCounts junction_counts(const CrackPattern& p, const SkeletonGraph& g)
         const double a3 = 360.0 - a1 - a2;
         ++counts.total;
         switch (classify_junction(a1, a2, a3)) {
-        case JunctionKind::T: ++counts.t; break;
-        case JunctionKind::Y: ++counts.y; break;
-        case JunctionKind::Other: break;
+        case JunctionKind::T:
+            ++counts.t;
+            break;
+        case JunctionKind::Y:
+            ++counts.y;
+            break;
+        case JunctionKind::Other:
+            break;
         }
     }
     return counts;
 }
 
-}  // namespace
+} // namespace
 
-JunctionKind classify_junction(double a, double b, double c)
-{
+JunctionKind classify_junction(double a, double b, double c) {
     const double largest = std::max({a, b, c}), smallest = std::min({a, b, c});
     if (largest >= 155.0) return JunctionKind::T;
     if (largest <= 145.0 && smallest >= 95.0) return JunctionKind::Y;
     return JunctionKind::Other;
 }
 
-std::vector<CrackSegment> crack_segments(const CrackPattern& p)
-{
+std::vector<CrackSegment> crack_segments(const CrackPattern& p) {
     std::vector<CrackSegment> segments;
     for (std::size_t fi = 0; fi < p.mesh.num_faces(); ++fi) {
         if (p.removed[fi]) continue;
@@ -149,8 +148,7 @@ std::vector<CrackSegment> crack_segments(const CrackPattern& p)
     return segments;
 }
 
-PatternStatistics pattern_statistics(const CrackPattern& p)
-{
+PatternStatistics pattern_statistics(const CrackPattern& p) {
     PatternStatistics st;
     st.fragments = p.num_fragments;
     double intact_area = 0;
@@ -201,4 +199,4 @@ PatternStatistics pattern_statistics(const CrackPattern& p)
     return st;
 }
 
-}  // namespace crackle::fracture
+} // namespace crackle::fracture

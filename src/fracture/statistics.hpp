@@ -2,36 +2,36 @@
 /// @file Pattern statistics (thesis-digest §7.1): the measurable proxies that tests and
 /// `crackle simulate --json` report, with the field names of design.md.
 
-#include <vector>
-
 #include "core/math.hpp"
 #include "fracture/crack_pattern.hpp"
+
+#include <vector>
 
 namespace crackle::fracture {
 
 /// A crack segment in the surface's local 2D frame (texture space in metres: x along u,
 /// y along v), reference configuration.
 struct CrackSegment {
-    Vec2 a, b;           ///< end points (unwrapped: b − a is the true segment)
-    double weight = 1;   ///< ½ for each lip of a crack, so lips add up to the crack length
-    Vec2 uv = Vec2::Zero();  ///< texture coordinates of the midpoint
+    Vec2 a, b;              ///< end points (unwrapped: b − a is the true segment)
+    double weight = 1;      ///< ½ for each lip of a crack, so lips add up to the crack length
+    Vec2 uv = Vec2::Zero(); ///< texture coordinates of the midpoint
     double length() const { return (b - a).norm(); }
 };
 
 struct PatternStatistics {
     int fragments = 0;
-    double total_area = 0;             ///< reference surface area (m²)
-    double mean_fragment_area = 0;     ///< m²
-    double crack_length = 0;           ///< m
-    double crack_length_per_area = 0;  ///< ρ_c (1/m)
-    double anisotropy = 0;             ///< (λ1 − λ2)/(λ1 + λ2) of the orientation tensor, 0..1
-    double dominant_angle_deg = 0;     ///< direction of the dominant crack tangent from u, [0, 180)
-    double psi6 = 0;                   ///< |Σ ℓ e^{6iθ}| / Σ ℓ: 1 for 60°-locked cracks
-    double axial_fraction = 0;         ///< share of crack length within 30° of the v axis
-    int junctions = 0;                 ///< crack-network nodes of degree 3
-    double t_junction_fraction = 0;    ///< one angle ≈ 180°, two ≈ 90°
-    double y_junction_fraction = 0;    ///< all three ≈ 120°
-    double min_angle_deg = 0;          ///< worst intact triangle
+    double total_area = 0;            ///< reference surface area (m²)
+    double mean_fragment_area = 0;    ///< m²
+    double crack_length = 0;          ///< m
+    double crack_length_per_area = 0; ///< ρ_c (1/m)
+    double anisotropy = 0;            ///< (λ1 − λ2)/(λ1 + λ2) of the orientation tensor, 0..1
+    double dominant_angle_deg = 0;    ///< direction of the dominant crack tangent from u, [0, 180)
+    double psi6 = 0;                  ///< |Σ ℓ e^{6iθ}| / Σ ℓ: 1 for 60°-locked cracks
+    double axial_fraction = 0;        ///< share of crack length within 30° of the v axis
+    int junctions = 0;                ///< crack-network nodes of degree 3
+    double t_junction_fraction = 0;   ///< one angle ≈ 180°, two ≈ 90°
+    double y_junction_fraction = 0;   ///< all three ≈ 120°
+    double min_angle_deg = 0;         ///< worst intact triangle
 };
 
 /// Crack lips: every edge of an intact face whose other side is removed or split off.
@@ -44,4 +44,4 @@ PatternStatistics pattern_statistics(const CrackPattern& pattern);
 enum class JunctionKind { T, Y, Other };
 JunctionKind classify_junction(double a, double b, double c);
 
-}  // namespace crackle::fracture
+} // namespace crackle::fracture

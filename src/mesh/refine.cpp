@@ -7,36 +7,34 @@ namespace crackle::mesh {
 namespace {
 
 /// The offset that places canonical domain point `canonical` at `unwrapped` in a face frame.
-Vec2i offset_of(const Vec2& unwrapped, const Vec2& canonical, const Vec2& period)
-{
+Vec2i offset_of(const Vec2& unwrapped, const Vec2& canonical, const Vec2& period) {
     return Vec2i(static_cast<int>(std::lround((unwrapped.x() - canonical.x()) / period.x())),
                  static_cast<int>(std::lround((unwrapped.y() - canonical.y()) / period.y())));
 }
 
 /// Splits one face across its edge k at the new vertex m (already appended); returns the new face.
-FaceId split_face(SurfaceMesh& mesh, FaceId f, int k, VertexId m)
-{
+FaceId split_face(SurfaceMesh& mesh, FaceId f, int k, VertexId m) {
     const auto a = static_cast<std::size_t>(k), b = static_cast<std::size_t>((k + 1) % 3);
     const Face old = mesh.faces[f];
     Vec2i om = Vec2i::Zero();
     if (mesh.periodic) {
-        const Vec2 mid = 0.5 * (mesh.corner_domain(f, static_cast<int>(a)) + mesh.corner_domain(f, static_cast<int>(b)));
+        const Vec2 mid =
+            0.5 * (mesh.corner_domain(f, static_cast<int>(a)) + mesh.corner_domain(f, static_cast<int>(b)));
         om = offset_of(mid, mesh.domain[m], mesh.period);
     }
     Face first = old, second = old;
-    first.v[b] = m;  // (a, m, c)
+    first.v[b] = m; // (a, m, c)
     first.offset[b] = om;
-    second.v[a] = m;  // (m, b, c)
+    second.v[a] = m; // (m, b, c)
     second.offset[a] = om;
     mesh.faces[f] = first;
     mesh.faces.push_back(second);
     return face_id(mesh.faces.size() - 1);
 }
 
-}  // namespace
+} // namespace
 
-EdgeSplit split_edge(SurfaceMesh& mesh, FaceId f, int edge, const NewVertex& nv)
-{
+EdgeSplit split_edge(SurfaceMesh& mesh, FaceId f, int edge, const NewVertex& nv) {
     const FaceNeighbor nb = mesh.neighbor(f, edge);
     EdgeSplit split;
     split.vertex = vertex_id(mesh.positions.size());
@@ -48,8 +46,7 @@ EdgeSplit split_edge(SurfaceMesh& mesh, FaceId f, int edge, const NewVertex& nv)
     return split;
 }
 
-int longest_edge(const SurfaceMesh& mesh, FaceId f)
-{
+int longest_edge(const SurfaceMesh& mesh, FaceId f) {
     const auto p = mesh.face_positions(f);
     const Face& face = mesh.faces[f];
     int best = 0;
@@ -72,8 +69,7 @@ int longest_edge(const SurfaceMesh& mesh, FaceId f)
     return best;
 }
 
-void rivara_bisect(SurfaceMesh& mesh, FaceId f, const MidpointRule& midpoint, std::vector<EdgeSplit>& splits)
-{
+void rivara_bisect(SurfaceMesh& mesh, FaceId f, const MidpointRule& midpoint, std::vector<EdgeSplit>& splits) {
     const int k = longest_edge(mesh, f);
     for (int guard = 0; guard < 64; ++guard) {
         const FaceNeighbor nb = mesh.neighbor(f, k);
@@ -88,8 +84,7 @@ void rivara_bisect(SurfaceMesh& mesh, FaceId f, const MidpointRule& midpoint, st
     CRACKLE_ASSERT(false, "Rivara bisection did not terminate at face " << ix(f));
 }
 
-MidpointRule domain_midpoint(const std::function<Vec3(const Vec2&)>& position_of_domain)
-{
+MidpointRule domain_midpoint(const std::function<Vec3(const Vec2&)>& position_of_domain) {
     return [position_of_domain](const SurfaceMesh& mesh, FaceId f, int edge) {
         const Vec2 mid = 0.5 * (mesh.corner_domain(f, edge) + mesh.corner_domain(f, (edge + 1) % 3));
         NewVertex nv;
@@ -99,8 +94,7 @@ MidpointRule domain_midpoint(const std::function<Vec3(const Vec2&)>& position_of
     };
 }
 
-MidpointRule projected_midpoint(const std::function<Vec3(const Vec3&)>& project)
-{
+MidpointRule projected_midpoint(const std::function<Vec3(const Vec3&)>& project) {
     return [project](const SurfaceMesh& mesh, FaceId f, int edge) {
         NewVertex nv;
         nv.position = project(0.5 * (mesh.corner_position(f, edge) + mesh.corner_position(f, (edge + 1) % 3)));
@@ -108,4 +102,4 @@ MidpointRule projected_midpoint(const std::function<Vec3(const Vec3&)>& project)
     };
 }
 
-}  // namespace crackle::mesh
+} // namespace crackle::mesh

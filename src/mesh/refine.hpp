@@ -3,10 +3,10 @@
 /// recursive longest-edge bisection (Federl 2002, §5.6.4, Alg. 9, Fig. 5.15). Every face is
 /// only ever split along its own longest edge, which keeps the triangles well shaped.
 
+#include "mesh/surface_mesh.hpp"
+
 #include <functional>
 #include <vector>
-
-#include "mesh/surface_mesh.hpp"
 
 namespace crackle::mesh {
 
@@ -20,8 +20,8 @@ using MidpointRule = std::function<NewVertex(const SurfaceMesh&, FaceId f, int e
 
 /// What a bisection did.
 struct EdgeSplit {
-    VertexId vertex = NO_VERTEX;             ///< the new vertex
-    std::vector<std::pair<FaceId, FaceId>> children;  ///< (kept id, new id) per split face
+    VertexId vertex = NO_VERTEX;                     ///< the new vertex
+    std::vector<std::pair<FaceId, FaceId>> children; ///< (kept id, new id) per split face
 };
 
 /// Bisects edge `edge` of `f` and the face across it (if any): f = (a, b, c) becomes
@@ -43,4 +43,4 @@ void rivara_bisect(SurfaceMesh& mesh, FaceId f, const MidpointRule& midpoint, st
 MidpointRule domain_midpoint(const std::function<Vec3(const Vec2&)>& position_of_domain);
 MidpointRule projected_midpoint(const std::function<Vec3(const Vec3&)>& project);
 
-}  // namespace crackle::mesh
+} // namespace crackle::mesh

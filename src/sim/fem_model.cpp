@@ -23,13 +23,13 @@ using SpMatR = Eigen::SparseMatrix<double, Eigen::RowMajor>;
 
 namespace {
 /// An absolute floor for the residual: forces that move nodes by 1e-13 of an element.
-double residual_floor(const SpMatR& K, const mesh::SurfaceMesh& mesh)
-{
+double residual_floor(const SpMatR& K, const mesh::SurfaceMesh& mesh) {
     const double k_max = K.diagonal().cwiseAbs().maxCoeff();
-    const double length = std::sqrt(mesh.total_area() / static_cast<double>(std::max<std::size_t>(mesh.num_faces(), 1)));
+    const double length =
+        std::sqrt(mesh.total_area() / static_cast<double>(std::max<std::size_t>(mesh.num_faces(), 1)));
     return 1e-13 * k_max * length * std::sqrt(static_cast<double>(K.rows()));
 }
-}  // namespace
+} // namespace
 
 // === Linear solvers
 
@@ -37,15 +37,14 @@ struct FemModel::Solver {
     SolverKind kind = SolverKind::Cg;
     Eigen::ConjugateGradient<SpMatR, Eigen::Lower | Eigen::Upper, Eigen::DiagonalPreconditioner<double>> cg;
     Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> cholmod;
-    Eigen::SparseMatrix<double> lower;  // CHOLMOD wants column-major lower storage
+    Eigen::SparseMatrix<double> lower; // CHOLMOD wants column-major lower storage
     bool analyzed = false;
     bool factorized = false;
 
     /// Called whenever K's values (or pattern) change.
-    void update(const SpMatR& K, bool pattern_changed)
-    {
+    void update(const SpMatR& K, bool pattern_changed) {
         if (kind == SolverKind::Cg) {
-            cg.compute(K);  // diagonal preconditioner: O(n)
+            cg.compute(K); // diagonal preconditioner: O(n)
             return;
         }
         if (pattern_changed) analyzed = false;
@@ -53,8 +52,7 @@ struct FemModel::Solver {
         lower = K.triangularView<Eigen::Lower>();
     }
 
-    void factorize()
-    {
+    void factorize() {
         if (factorized) return;
         if (!analyzed) {
             cholmod.analyzePattern(lower);
@@ -72,8 +70,7 @@ struct FemModel::Solver {
 FemModel::FemModel(mesh::SurfaceMesh mesh, const mesh::Surface& surface, const GrowthField& growth,
                    const ShrinkageOptions& shrinkage, const LayerFields& fields, const FemOptions& options)
     : m_mesh(std::move(mesh)), m_surface(surface), m_growth(growth), m_shrinkage(shrinkage), m_fields(fields),
-      m_options(options), m_solver(std::make_unique<Solver>())
-{
+      m_options(options), m_solver(std::make_unique<Solver>()) {
     CRACKLE_ASSERT(fields.thickness && fields.young_modulus && fields.threshold_stress && fields.toughness,
                    "every layer field must be given");
     m_solver->kind = options.solver;
@@ -83,26 +80,30 @@ FemModel::FemModel(mesh::SurfaceMesh mesh, const mesh::Surface& surface, const G
     m_x.values.resize(nv);
     m_xdot.values.assign(nv, Vec3::Zero());
     m_last_update.assign(nv, 0.0);
-    for (std::size_t v = 0; v < nv; ++v) init_vertex(v);
+    for (std::size_t v = 0; v < nv; ++v)
+        init_vertex(v);
     m_alive.assign(nf, 1);
     m_num_alive = nf;
     m_material.resize(nf);
     m_k_top.resize(nf);
-    for (std::size_t f = 0; f < nf; ++f) init_element(f);
+    for (std::size_t f = 0; f < nf; ++f)
+        init_element(f);
     rebuild_incidence();
     assemble();
     m_solver->update(m_K, true);
     double thr = 0, h = 0;
-    for (const ElementMaterial& mat : m_material) thr += mat.threshold_stress;
-    for (double t : m_thickness) h += t;
+    for (const ElementMaterial& mat : m_material)
+        thr += mat.threshold_stress;
+    for (double t : m_thickness)
+        h += t;
     const double edge = std::sqrt(m_mesh.total_area() / static_cast<double>(std::max<std::size_t>(nf, 1)));
-    m_force_scale = thr / static_cast<double>(std::max<std::size_t>(nf, 1)) * h / static_cast<double>(std::max<std::size_t>(nv, 1)) * edge;
+    m_force_scale = thr / static_cast<double>(std::max<std::size_t>(nf, 1)) * h
+                    / static_cast<double>(std::max<std::size_t>(nv, 1)) * edge;
 }
 
 FemModel::~FemModel() = default;
 
-void FemModel::init_vertex(std::size_t v)
-{
+void FemModel::init_vertex(std::size_t v) {
     const Vec3& p = m_mesh.positions[vertex_id(v)];
     const Vec2 uv = m_surface.periodic() ? m_surface.uv_of_domain(m_mesh.domain[vertex_id(v)]) : m_surface.uv(p);
     m_normal[v] = m_surface.normal(p);
@@ -113,8 +114,7 @@ void FemModel::init_vertex(std::size_t v)
     m_x.values[v] = m_growth.position(p, m_time) + (1.0 - s_bar) * m_thickness[v] * m_normal[v];
 }
 
-void FemModel::init_element(std::size_t f)
-{
+void FemModel::init_element(std::size_t f) {
     const FaceId id = face_id(f);
     ElementMaterial& mat = m_material[f];
     mat.young_modulus = m_fields.young_modulus->face_average(m_mesh, id, m_surface);
@@ -123,15 +123,13 @@ void FemModel::init_element(std::size_t f)
     build_element_stiffness(f);
 }
 
-void FemModel::build_element_stiffness(std::size_t f)
-{
+void FemModel::build_element_stiffness(std::size_t f) {
     const wedge::Nodes q = reference_nodes_at(f, m_stiffness_s_top, m_stiffness_s_bot);
     const wedge::Mat18 K = wedge::stiffness(q, m_material[f].young_modulus, m_fields.poisson_ratio);
     m_k_top[f] = K.bottomRows<9>();
 }
 
-wedge::Nodes FemModel::reference_nodes_at(std::size_t f, double s_top, double s_bot) const
-{
+wedge::Nodes FemModel::reference_nodes_at(std::size_t f, double s_top, double s_bot) const {
     const FaceId id = face_id(f);
     const mesh::Face& face = m_mesh.faces[id];
     std::array<Vec3, 3> bottom0, normals;
@@ -144,8 +142,7 @@ wedge::Nodes FemModel::reference_nodes_at(std::size_t f, double s_top, double s_
     return reference_shape(bottom0, normals, heights, s_top, s_bot);
 }
 
-void FemModel::rebuild_incidence()
-{
+void FemModel::rebuild_incidence() {
     const std::size_t nv = m_mesh.num_vertices();
     m_incident.assign(nv, {});
     m_alive_degree.assign(nv, 0);
@@ -161,8 +158,7 @@ void FemModel::rebuild_incidence()
 
 // === Assembly (§5.4, Alg. 4, with the bottom DOFs eliminated)
 
-SpMatR FemModel::assemble_from_scratch() const
-{
+SpMatR FemModel::assemble_from_scratch() const {
     const auto n = static_cast<Eigen::Index>(3 * m_mesh.num_vertices());
     std::vector<Eigen::Triplet<double>> triplets;
     triplets.reserve(81 * m_mesh.num_faces() + 3 * m_mesh.num_vertices());
@@ -192,8 +188,7 @@ SpMatR FemModel::assemble_from_scratch() const
     return K;
 }
 
-void FemModel::assemble()
-{
+void FemModel::assemble() {
     m_K = assemble_from_scratch();
     m_stiffness_dirty_for_x = true;
     m_residual_floor = residual_floor(m_K, m_mesh);
@@ -202,8 +197,7 @@ void FemModel::assemble()
     Eigen::setNbThreads(m_K.rows() < 60000 ? 1 : 0);
 }
 
-void FemModel::set_block(std::size_t a, std::size_t b, const Mat3& block)
-{
+void FemModel::set_block(std::size_t a, std::size_t b, const Mat3& block) {
     for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 3; ++j)
             m_K.coeffRef(static_cast<Eigen::Index>(3 * a) + i, static_cast<Eigen::Index>(3 * b) + j) = block(i, j);
@@ -211,26 +205,22 @@ void FemModel::set_block(std::size_t a, std::size_t b, const Mat3& block)
 
 // === Time
 
-Vec3 FemModel::shift(const Vec2i& offset, double t) const
-{
+Vec3 FemModel::shift(const Vec2i& offset, double t) const {
     if (offset == Vec2i::Zero()) return Vec3::Zero();
     return m_growth.period_shift(m_surface.period_shift(offset), t);
 }
 
-Vec3 FemModel::shift_rate(const Vec2i& offset) const
-{
+Vec3 FemModel::shift_rate(const Vec2i& offset) const {
     if (offset == Vec2i::Zero()) return Vec3::Zero();
     return m_growth.tensor() * m_surface.period_shift(offset);
 }
 
-void FemModel::invalidate_residuals()
-{
+void FemModel::invalidate_residuals() {
     m_x.residual_valid = m_xdot.residual_valid = false;
     m_x.load_norm = m_xdot.load_norm = -1;
 }
 
-void FemModel::set_time(double t)
-{
+void FemModel::set_time(double t) {
     if (t != m_time) invalidate_residuals();
     m_time = t;
     const double dt_top = std::abs(m_shrinkage.top(t) - m_stiffness_s_top);
@@ -238,7 +228,8 @@ void FemModel::set_time(double t)
     if (std::max(dt_top, dt_bot) > m_options.stiffness_refresh) {
         m_stiffness_s_top = m_shrinkage.top(t);
         m_stiffness_s_bot = m_shrinkage.bottom(t);
-        for (std::size_t f = 0; f < m_mesh.num_faces(); ++f) build_element_stiffness(f);
+        for (std::size_t f = 0; f < m_mesh.num_faces(); ++f)
+            build_element_stiffness(f);
         assemble();
         m_solver->update(m_K, false);
         invalidate_residuals();
@@ -247,8 +238,7 @@ void FemModel::set_time(double t)
     }
 }
 
-void FemModel::advance_time(double t)
-{
+void FemModel::advance_time(double t) {
     const double dt = t - m_time;
     if (dt == 0.0) return;
     if (t > stiffness_horizon()) {
@@ -266,8 +256,7 @@ void FemModel::advance_time(double t)
     m_time = t;
 }
 
-double FemModel::stiffness_horizon() const
-{
+double FemModel::stiffness_horizon() const {
     double horizon = std::numeric_limits<double>::infinity();
     auto limit = [&](double rate, double s_ref) {
         if (rate == 0) return;
@@ -280,8 +269,7 @@ double FemModel::stiffness_horizon() const
     return horizon;
 }
 
-void FemModel::advance_along_rate(double dt)
-{
+void FemModel::advance_along_rate(double dt) {
     invalidate_residuals();
     for (std::size_t v = 0; v < m_mesh.num_vertices(); ++v)
         if (m_alive_degree[v] > 0) m_x.values[v] += dt * m_xdot.values[v];
@@ -289,10 +277,11 @@ void FemModel::advance_along_rate(double dt)
 
 // === Positions
 
-Vec3 FemModel::bottom_position(VertexId v) const { return m_growth.position(m_mesh.positions[v], m_time); }
+Vec3 FemModel::bottom_position(VertexId v) const {
+    return m_growth.position(m_mesh.positions[v], m_time);
+}
 
-wedge::Nodes FemModel::current_nodes(FaceId f) const
-{
+wedge::Nodes FemModel::current_nodes(FaceId f) const {
     const mesh::Face& face = m_mesh.faces[f];
     wedge::Nodes p;
     for (std::size_t k = 0; k < 3; ++k) {
@@ -303,19 +292,16 @@ wedge::Nodes FemModel::current_nodes(FaceId f) const
     return p;
 }
 
-wedge::Nodes FemModel::reference_nodes(FaceId f) const
-{
+wedge::Nodes FemModel::reference_nodes(FaceId f) const {
     return reference_nodes_at(ix(f), m_shrinkage.top(m_time), m_shrinkage.bottom(m_time));
 }
 
-wedge::Vec18 FemModel::displacement(std::size_t f) const
-{
+wedge::Vec18 FemModel::displacement(std::size_t f) const {
     // q = P − Q, differences of nearby positions: accurate to round-off of the positions.
     return wedge::flatten(current_nodes(face_id(f))) - wedge::flatten(reference_nodes(face_id(f)));
 }
 
-wedge::Vec18 FemModel::displacement_rate(std::size_t f) const
-{
+wedge::Vec18 FemModel::displacement_rate(std::size_t f) const {
     // q̇ = Ṗ − Q̇. Q is affine in (s_top, s_bot), which are linear in t: Q̇ = Q(s + rate) − Q(s).
     const mesh::Face& face = m_mesh.faces[face_id(f)];
     wedge::Nodes p_dot;
@@ -332,13 +318,11 @@ wedge::Vec18 FemModel::displacement_rate(std::size_t f) const
 
 // === Residuals
 
-Eigen::Matrix<double, 9, 1> FemModel::element_force(std::size_t f, Unknown u) const
-{
+Eigen::Matrix<double, 9, 1> FemModel::element_force(std::size_t f, Unknown u) const {
     return m_k_top[f] * (u == Unknown::Position ? displacement(f) : displacement_rate(f));
 }
 
-Eigen::VectorXd FemModel::full_residual(Unknown u) const
-{
+Eigen::VectorXd FemModel::full_residual(Unknown u) const {
     // r = b − K x = −Σ_e (K_e q_e)_top over the alive elements
     Eigen::VectorXd r = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(3 * m_mesh.num_vertices()));
     for (std::size_t f = 0; f < m_mesh.num_faces(); ++f) {
@@ -346,23 +330,22 @@ Eigen::VectorXd FemModel::full_residual(Unknown u) const
         const Eigen::Matrix<double, 9, 1> force = element_force(f, u);
         const mesh::Face& face = m_mesh.faces[face_id(f)];
         for (std::size_t k = 0; k < 3; ++k)
-            r.segment<3>(static_cast<Eigen::Index>(3 * ix(face.v[k]))) -= force.segment<3>(static_cast<Eigen::Index>(3 * k));
+            r.segment<3>(static_cast<Eigen::Index>(3 * ix(face.v[k]))) -=
+                force.segment<3>(static_cast<Eigen::Index>(3 * k));
     }
     return r;
 }
 
-void FemModel::ensure_residual(Unknown u)
-{
+void FemModel::ensure_residual(Unknown u) {
     Field& fd = field(u);
     if (fd.residual_valid) return;
     fd.residual = full_residual(u);
     fd.residual_valid = true;
 }
 
-void FemModel::recompute_residual_at(Unknown u, const std::vector<std::size_t>& vertices)
-{
+void FemModel::recompute_residual_at(Unknown u, const std::vector<std::size_t>& vertices) {
     Field& fd = field(u);
-    if (!fd.residual_valid) return;  // recomputed in full when needed
+    if (!fd.residual_valid) return; // recomputed in full when needed
     std::vector<char> mark(m_mesh.num_vertices(), 0);
     for (std::size_t v : vertices) {
         mark[v] = 1;
@@ -384,8 +367,7 @@ void FemModel::recompute_residual_at(Unknown u, const std::vector<std::size_t>& 
     }
 }
 
-double FemModel::load_norm(Unknown u)
-{
+double FemModel::load_norm(Unknown u) {
     Field& fd = field(u);
     if (fd.load_norm >= 0) return fd.load_norm;
     // The residual with every top node at rest above its bottom node (positions), or with
@@ -409,14 +391,14 @@ double FemModel::load_norm(Unknown u)
         }
         const Eigen::Matrix<double, 9, 1> force = m_k_top[f] * q;
         for (std::size_t k = 0; k < 3; ++k)
-            r.segment<3>(static_cast<Eigen::Index>(3 * ix(face.v[k]))) -= force.segment<3>(static_cast<Eigen::Index>(3 * k));
+            r.segment<3>(static_cast<Eigen::Index>(3 * ix(face.v[k]))) -=
+                force.segment<3>(static_cast<Eigen::Index>(3 * k));
     }
     fd.load_norm = r.norm();
     return fd.load_norm;
 }
 
-double FemModel::max_residual_force()
-{
+double FemModel::max_residual_force() {
     ensure_residual(Unknown::Position);
     double worst = 0;
     for (std::size_t v = 0; v < m_mesh.num_vertices(); ++v)
@@ -426,8 +408,7 @@ double FemModel::max_residual_force()
 
 // === Equilibrium
 
-SolveStats FemModel::solve(const Eigen::VectorXd& rhs, Eigen::VectorXd& x, double abs_tolerance)
-{
+SolveStats FemModel::solve(const Eigen::VectorXd& rhs, Eigen::VectorXd& x, double abs_tolerance) {
     Timer timer;
     SolveStats stats;
     const double rhs_norm = rhs.norm();
@@ -450,9 +431,9 @@ SolveStats FemModel::solve(const Eigen::VectorXd& rhs, Eigen::VectorXd& x, doubl
         stats.residual = cg.error();
         if (cg.info() != Eigen::Success) {
             std::ostringstream os;
-            os << "conjugate gradient did not converge: " << cg.iterations() << " iterations, residual "
-               << cg.error() << " of the right-hand side (wanted " << abs_tolerance / rhs_norm << ") at t = "
-               << m_time << "; raise simulation.solver_max_iterations or use simulation.solver = \"direct\"";
+            os << "conjugate gradient did not converge: " << cg.iterations() << " iterations, residual " << cg.error()
+               << " of the right-hand side (wanted " << abs_tolerance / rhs_norm << ") at t = " << m_time
+               << "; raise simulation.solver_max_iterations or use simulation.solver = \"direct\"";
             throw NumericError(os.str());
         }
     }
@@ -462,8 +443,7 @@ SolveStats FemModel::solve(const Eigen::VectorXd& rhs, Eigen::VectorXd& x, doubl
     return stats;
 }
 
-SolveStats FemModel::relax_field(Unknown u)
-{
+SolveStats FemModel::relax_field(Unknown u) {
     Field& fd = field(u);
     ensure_residual(u);
     const double tol = std::max(m_options.tolerance * load_norm(u), m_residual_floor);
@@ -483,52 +463,55 @@ SolveStats FemModel::relax_field(Unknown u)
     return stats;
 }
 
-SolveStats FemModel::relax()
-{
+SolveStats FemModel::relax() {
     SolveStats s = relax_field(Unknown::Position);
     m_stiffness_dirty_for_x = false;
     return s;
 }
 
-SolveStats FemModel::solve_rate() { return relax_field(Unknown::Rate); }
+SolveStats FemModel::solve_rate() {
+    return relax_field(Unknown::Rate);
+}
 
-SolveStats FemModel::relax_local(const std::vector<std::size_t>& seeds, double& radius, const LocalRelaxOptions& options)
-{
+SolveStats FemModel::relax_local(const std::vector<std::size_t>& seeds, double& radius,
+                                 const LocalRelaxOptions& options) {
     SolveStats s = relax_field_local(Unknown::Position, seeds, radius, options);
     m_stiffness_dirty_for_x = false;
     return s;
 }
 
 SolveStats FemModel::relax_rate_local(const std::vector<std::size_t>& seeds, double& radius,
-                                      const LocalRelaxOptions& options)
-{
+                                      const LocalRelaxOptions& options) {
     return relax_field_local(Unknown::Rate, seeds, radius, options);
 }
 
 SolveStats FemModel::relax_field_local(Unknown u, const std::vector<std::size_t>& seeds, double& radius,
-                                       const LocalRelaxOptions& options)
-{
+                                       const LocalRelaxOptions& options) {
     Timer timer;
     Field& fd = field(u);
     ensure_residual(u);
     const std::size_t nv = m_mesh.num_vertices();
     auto force = [&](std::size_t v) { return fd.residual.segment<3>(static_cast<Eigen::Index>(3 * v)).norm(); };
     double change = 0;
-    for (std::size_t v : seeds) change = std::max(change, force(v));
+    for (std::size_t v : seeds)
+        change = std::max(change, force(v));
     // Forces below `tolerance` of a threshold-level nodal force (threshold × thickness × edge)
     // do not matter for cracking; per unit time for rates, with the run's time scale 1.
-    const double floor = std::max(m_options.tolerance * m_force_scale, m_residual_floor / std::sqrt(static_cast<double>(nv)));
+    const double floor =
+        std::max(m_options.tolerance * m_force_scale, m_residual_floor / std::sqrt(static_cast<double>(nv)));
     const double tol = std::max(options.tolerance * change, floor);
 
     SolveStats stats;
-    for (std::size_t v : m_updated) m_last_update[v] = 0.0;
+    for (std::size_t v : m_updated)
+        m_last_update[v] = 0.0;
     m_updated.clear();
     if (change <= tol) {
         stats.seconds = timer.seconds();
         return stats;
     }
-    constexpr double MAX_RADIUS = 256.0;  // hops; beyond this the global solve is cheaper anyway
+    constexpr double MAX_RADIUS = 256.0; // hops; beyond this the global solve is cheaper anyway
     radius = std::clamp(radius, static_cast<double>(options.min_radius), MAX_RADIUS);
+    const double start_radius = radius;
     std::vector<std::size_t> sources = seeds;
     // Scratch marks, kept between calls and reset only where used: O(local) per call.
     std::vector<int>& hop = m_scratch_hop;
@@ -562,18 +545,23 @@ SolveStats FemModel::relax_field_local(Unknown u, const std::vector<std::size_t>
             }
         }
         if (static_cast<double>(set.size()) > options.max_fraction * static_cast<double>(nv)) {
-            for (std::size_t v : set) hop[v] = -1;
-            for (std::size_t v : m_updated) touched[v] = 0;
+            log::debug("local ", u == Unknown::Position ? "x" : "v", " fallback: ", set.size(), " nodes at radius ",
+                       radius, " from ", sources.size(), " sources");
+            for (std::size_t v : set)
+                hop[v] = -1;
+            for (std::size_t v : m_updated)
+                touched[v] = 0;
             SolveStats global = relax_field(u);
             global.fell_back = true;
             global.seconds = timer.seconds();
-            radius = std::min(2.0 * radius, MAX_RADIUS);
+            radius = start_radius; // this change was unusual; the next starts where this one did
             return global;
         }
 
         // === K_SS Δ = r_S with the rest held (the thesis' elimination method, §5.5)
         const auto m = static_cast<Eigen::Index>(3 * set.size());
-        for (std::size_t i = 0; i < set.size(); ++i) local_index[set[i]] = static_cast<int>(i);
+        for (std::size_t i = 0; i < set.size(); ++i)
+            local_index[set[i]] = static_cast<int>(i);
         std::vector<Eigen::Triplet<double>> triplets;
         triplets.reserve(static_cast<std::size_t>(m) * 21);
         Eigen::VectorXd rhs(m);
@@ -623,7 +611,8 @@ SolveStats FemModel::relax_field_local(Unknown u, const std::vector<std::size_t>
                 }
             }
         }
-        for (std::size_t v : set) local_index[v] = -1;
+        for (std::size_t v : set)
+            local_index[v] = -1;
 
         // === Radius control (§5.8.3): grow while the pushed-out forces are not negligible
         // next to the change (the thesis checks the residual; forces left over from earlier
@@ -633,19 +622,23 @@ SolveStats FemModel::relax_field_local(Unknown u, const std::vector<std::size_t>
             if (m_alive_degree[w] > 0 && pushed[w].norm() > tol) unresolved.push_back(w);
             pushed[w] = Vec3::Zero();
         }
-        for (std::size_t v : set) hop[v] = -1;
+        for (std::size_t v : set)
+            hop[v] = -1;
+        log::debug("local ", u == Unknown::Position ? "x" : "v", " round ", stats.iterations, ": ", set.size(),
+                   " nodes, radius ", radius, ", ", unresolved.size(), " unresolved");
         if (unresolved.empty()) {
             if (first_try) radius = std::max(static_cast<double>(options.min_radius), 0.9 * radius);
             break;
         }
         first_try = false;
-        radius = std::min(2.0 * radius, MAX_RADIUS);
+        radius = std::min(1.5 * radius, MAX_RADIUS);
         std::sort(unresolved.begin(), unresolved.end());
         unresolved.erase(std::unique(unresolved.begin(), unresolved.end()), unresolved.end());
         sources = seeds;
         sources.insert(sources.end(), unresolved.begin(), unresolved.end());
     }
-    for (std::size_t v : m_updated) touched[v] = 0;
+    for (std::size_t v : m_updated)
+        touched[v] = 0;
     stats.residual = tol / std::max(change, 1e-300);
     stats.seconds = timer.seconds();
     return stats;
@@ -653,8 +646,7 @@ SolveStats FemModel::relax_field_local(Unknown u, const std::vector<std::size_t>
 
 // === Stress
 
-TopStress FemModel::top_stress(FaceId f) const
-{
+TopStress FemModel::top_stress(FaceId f) const {
     const std::size_t fi = ix(f);
     // B from the reference shape the stiffness was built with, so σ is consistent with K.
     const wedge::Nodes ref = reference_nodes_at(fi, m_stiffness_s_top, m_stiffness_s_bot);
@@ -668,8 +660,7 @@ TopStress FemModel::top_stress(FaceId f) const
     return s;
 }
 
-TopStress FemModel::top_stress_rate(FaceId f) const
-{
+TopStress FemModel::top_stress_rate(FaceId f) const {
     const std::size_t fi = ix(f);
     const wedge::Nodes ref = reference_nodes_at(fi, m_stiffness_s_top, m_stiffness_s_bot);
     const wedge::Mat6 D = wedge::elasticity(m_material[fi].young_modulus, m_fields.poisson_ratio);
@@ -682,15 +673,14 @@ TopStress FemModel::top_stress_rate(FaceId f) const
     return s;
 }
 
-double FemModel::stress_ratio(FaceId f) const
-{
+double FemModel::stress_ratio(FaceId f) const {
     double best = -std::numeric_limits<double>::infinity();
-    for (const wedge::Vec6& s : top_stress(f)) best = std::max(best, wedge::max_principal(s).value);
+    for (const wedge::Vec6& s : top_stress(f))
+        best = std::max(best, wedge::max_principal(s).value);
     return best / m_material[ix(f)].threshold_stress;
 }
 
-double FemModel::strain_energy() const
-{
+double FemModel::strain_energy() const {
     double e = 0;
     for (std::size_t f = 0; f < m_mesh.num_faces(); ++f) {
         if (!m_alive[f]) continue;
@@ -703,8 +693,7 @@ double FemModel::strain_energy() const
 
 // === Topology
 
-void FemModel::remove_element(FaceId f)
-{
+void FemModel::remove_element(FaceId f) {
     const std::size_t fi = ix(f);
     CRACKLE_ASSERT(m_alive[fi], "element " << fi << " is already removed");
     const mesh::Face& face = m_mesh.faces[f];
@@ -747,21 +736,18 @@ void FemModel::remove_element(FaceId f)
     m_stiffness_dirty_for_x = true;
 }
 
-double FemModel::element_size(FaceId f) const
-{
+double FemModel::element_size(FaceId f) const {
     const auto p = m_mesh.face_positions(f);
     return std::max({(p[1] - p[0]).norm(), (p[2] - p[1]).norm(), (p[0] - p[2]).norm()});
 }
 
-std::vector<FaceId> FemModel::subdivide(FaceId f)
-{
+std::vector<FaceId> FemModel::subdivide(FaceId f) {
     const mesh::MidpointRule where =
-        m_surface.periodic()
-            ? mesh::domain_midpoint([this](const Vec2& d) { return m_surface.position(d); })
-            : mesh::projected_midpoint([this](const Vec3& p) { return m_surface.project(p); });
+        m_surface.periodic() ? mesh::domain_midpoint([this](const Vec2& d) { return m_surface.position(d); })
+                             : mesh::projected_midpoint([this](const Vec3& p) { return m_surface.project(p); });
     // Each new vertex's top node starts at the midpoint of the split edge's top nodes, worked
     // out in the split face's periodic frame before the split happens (and its rate likewise).
-    std::vector<std::pair<std::size_t, std::pair<Vec3, Vec3>>> new_tops;  // vertex, (top, rate)
+    std::vector<std::pair<std::size_t, std::pair<Vec3, Vec3>>> new_tops; // vertex, (top, rate)
     const mesh::MidpointRule rule = [&](const mesh::SurfaceMesh& m, FaceId face, int edge) {
         const mesh::NewVertex nv = where(m, face, edge);
         const mesh::Face& fc = m.faces[face];
@@ -772,10 +758,12 @@ std::vector<FaceId> FemModel::subdivide(FaceId f)
             om = Vec2i(static_cast<int>(std::lround((mid.x() - nv.domain.x()) / m.period.x())),
                        static_cast<int>(std::lround((mid.y() - nv.domain.y()) / m.period.y())));
         }
-        const Vec3 top = 0.5 * (m_x.values[ix(fc.v[a])] + shift(fc.offset[a], m_time) + m_x.values[ix(fc.v[b])]
+        const Vec3 top = 0.5
+                             * (m_x.values[ix(fc.v[a])] + shift(fc.offset[a], m_time) + m_x.values[ix(fc.v[b])]
                                 + shift(fc.offset[b], m_time))
                          - shift(om, m_time);
-        const Vec3 rate = 0.5 * (m_xdot.values[ix(fc.v[a])] + shift_rate(fc.offset[a]) + m_xdot.values[ix(fc.v[b])]
+        const Vec3 rate = 0.5
+                              * (m_xdot.values[ix(fc.v[a])] + shift_rate(fc.offset[a]) + m_xdot.values[ix(fc.v[b])]
                                  + shift_rate(fc.offset[b]))
                           - shift_rate(om);
         new_tops.push_back({m.num_vertices(), {top, rate}});
@@ -818,14 +806,16 @@ std::vector<FaceId> FemModel::subdivide(FaceId f)
     // the refinement touched, once it is finished.
     std::sort(touched.begin(), touched.end());
     touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
-    for (FaceId t : touched) init_element(ix(t));
+    for (FaceId t : touched)
+        init_element(ix(t));
     rebuild_incidence();
     assemble();
     m_solver->update(m_K, true);
     // Only the residuals at the refined faces' nodes change.
     std::vector<std::size_t> vertices;
     for (FaceId t : touched)
-        for (VertexId w : m_mesh.faces[t].v) vertices.push_back(ix(w));
+        for (VertexId w : m_mesh.faces[t].v)
+            vertices.push_back(ix(w));
     std::sort(vertices.begin(), vertices.end());
     vertices.erase(std::unique(vertices.begin(), vertices.end()), vertices.end());
     recompute_residual_at(Unknown::Position, vertices);
@@ -834,4 +824,4 @@ std::vector<FaceId> FemModel::subdivide(FaceId f)
     return touched;
 }
 
-}  // namespace crackle::sim
+} // namespace crackle::sim

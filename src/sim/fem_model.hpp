@@ -17,12 +17,6 @@
 /// whenever the shrinkage scale has moved by more than `stiffness_refresh` since the last
 /// build (digest §1.10 [I]).
 
-#include <array>
-#include <memory>
-#include <vector>
-
-#include <Eigen/SparseCore>
-
 #include "mesh/surface.hpp"
 #include "mesh/surface_mesh.hpp"
 #include "sim/growth_field.hpp"
@@ -30,18 +24,24 @@
 #include "sim/reference_shape.hpp"
 #include "sim/wedge_element.hpp"
 
+#include <Eigen/SparseCore>
+
+#include <array>
+#include <memory>
+#include <vector>
+
 namespace crackle::sim {
 
 enum class SolverKind {
-    Cg,     ///< conjugate gradient, Jacobi preconditioned, warm-started (the thesis' choice)
-    Direct  ///< sparse Cholesky (CHOLMOD supernodal), refactorized when K changes
+    Cg,    ///< conjugate gradient, Jacobi preconditioned, warm-started (the thesis' choice)
+    Direct ///< sparse Cholesky (CHOLMOD supernodal), refactorized when K changes
 };
 
 struct FemOptions {
     SolverKind solver = SolverKind::Cg;
-    double tolerance = 1e-9;    ///< CG: residual norm relative to the load's norm
-    int max_iterations = 20000; ///< CG iterations before a NumericError
-    double stiffness_refresh = 0.01;  ///< rebuild K when the shrinkage scale moved this much
+    double tolerance = 1e-9;         ///< CG: residual norm relative to the load's norm
+    int max_iterations = 20000;      ///< CG iterations before a NumericError
+    double stiffness_refresh = 0.01; ///< rebuild K when the shrinkage scale moved this much
 };
 
 /// The layer's physical fields (§5.9), sampled per element (E, threshold, toughness) and per
@@ -62,10 +62,10 @@ struct ElementMaterial {
 
 struct SolveStats {
     int iterations = 0;
-    double residual = 0;  ///< final residual relative to the load
+    double residual = 0; ///< final residual relative to the load
     double seconds = 0;
-    std::size_t nodes = 0;    ///< nodes solved for (all, or the local set)
-    bool fell_back = false;   ///< a local relaxation that had to solve globally
+    std::size_t nodes = 0;  ///< nodes solved for (all, or the local set)
+    bool fell_back = false; ///< a local relaxation that had to solve globally
 };
 
 /// Adaptive local relaxation (Federl 2002, §5.8; digest §3.10): after a local change, solve
@@ -75,8 +75,8 @@ struct LocalRelaxOptions {
     /// Largest force pushed out of the solved set, relative to the change's largest nodal force.
     /// 1e-2 needs about 7 hops on thin layers (error ∝ exp(−r/1.6h), docs/perf-limits.md).
     double tolerance = 1e-2;
-    double max_fraction = 0.25;  ///< solve globally when the local set passes this share of nodes
-    int min_radius = 2;          ///< hops
+    double max_fraction = 0.25; ///< solve globally when the local set passes this share of nodes
+    int min_radius = 2;         ///< hops
 };
 
 /// σ at the three Gauss points nearest the top face (Voigt order, Pa).
@@ -126,7 +126,8 @@ public:
     /// the radius doubles, and past `max_fraction` of the nodes it solves globally. `radius`
     /// adapts in place (§5.8.3): shrunk by 10 % after a first-try success, doubled when more
     /// was needed.
-    SolveStats relax_local(const std::vector<std::size_t>& seeds, double& radius, const LocalRelaxOptions& options = {});
+    SolveStats relax_local(const std::vector<std::size_t>& seeds, double& radius,
+                           const LocalRelaxOptions& options = {});
     /// The same for the rate solution ẋ (a removal changes it only nearby, too).
     SolveStats relax_rate_local(const std::vector<std::size_t>& seeds, double& radius,
                                 const LocalRelaxOptions& options = {});
@@ -187,7 +188,7 @@ private:
         std::vector<Vec3> values;
         Eigen::VectorXd residual;
         bool residual_valid = false;
-        double load_norm = -1;  ///< scale of the tolerance (‖b‖ with the top nodes at rest)
+        double load_norm = -1; ///< scale of the tolerance (‖b‖ with the top nodes at rest)
     };
     Field& field(Unknown u) { return u == Unknown::Position ? m_x : m_xdot; }
 
@@ -223,10 +224,10 @@ private:
     FemOptions m_options;
 
     double m_time = 0;
-    double m_stiffness_s_top = 0, m_stiffness_s_bot = 0;  // shrinkage at the last stiffness build
+    double m_stiffness_s_top = 0, m_stiffness_s_bot = 0; // shrinkage at the last stiffness build
     bool m_stiffness_dirty_for_x = true;
     double m_residual_floor = 0;
-    double m_force_scale = 1;  // threshold × thickness × edge length: a nodal force that cracks
+    double m_force_scale = 1; // threshold × thickness × edge length: a nodal force that cracks
 
     // per vertex
     std::vector<Vec3> m_normal;      // surface normal at t = 0
@@ -238,17 +239,17 @@ private:
     std::vector<int> m_scratch_hop, m_scratch_index;
     std::vector<char> m_scratch_touched;
     std::vector<Vec3> m_scratch_pushed;
-    std::vector<std::vector<std::uint32_t>> m_incident;  // faces around each vertex
-    std::vector<int> m_alive_degree;                     // alive faces around each vertex
+    std::vector<std::vector<std::uint32_t>> m_incident; // faces around each vertex
+    std::vector<int> m_alive_degree;                    // alive faces around each vertex
 
     // per element
     std::vector<char> m_alive;
     std::size_t m_num_alive = 0;
     std::vector<ElementMaterial> m_material;
-    std::vector<Eigen::Matrix<double, 9, 18>> m_k_top;  // rows of K_e for the top nodes
+    std::vector<Eigen::Matrix<double, 9, 18>> m_k_top; // rows of K_e for the top nodes
 
     Eigen::SparseMatrix<double, Eigen::RowMajor> m_K;
     std::unique_ptr<Solver> m_solver;
 };
 
-}  // namespace crackle::sim
+} // namespace crackle::sim

@@ -5,9 +5,9 @@
 /// stresses. Nodes 0–2 are the bottom face (thesis nodes 1–3), 3–5 the top face (4–6).
 /// Isoparametric coordinates: (ξ, η) on the unit triangle, ζ ∈ [−1, 1] through the thickness.
 
-#include <array>
-
 #include "core/math.hpp"
+
+#include <array>
 
 namespace crackle::sim::wedge {
 
@@ -74,4 +74,4 @@ Principal max_principal(const Vec6& s);
 /// Stacks 6 nodal positions into an 18-vector.
 Vec18 flatten(const Nodes& nodes);
 
-}  // namespace crackle::sim::wedge
+} // namespace crackle::sim::wedge

@@ -1,10 +1,10 @@
 #pragma once
 /// @file A small FEM layer for tests: surface, fields and model in one object.
 
-#include <memory>
-
 #include "sim/fem_model.hpp"
 #include "support/mesh_fixtures.hpp"
+
+#include <memory>
 
 namespace crackle::test {
 
@@ -26,8 +26,7 @@ struct Layer {
           thickness(s.thickness, sim::VariationOptions{}, surface, s.seed, 1),
           young(s.young, s.young_variation, surface, s.seed, 2),
           threshold(s.threshold, sim::VariationOptions{}, surface, s.seed, 3),
-          toughness(s.toughness, sim::VariationOptions{}, surface, s.seed, 4)
-    {
+          toughness(s.toughness, sim::VariationOptions{}, surface, s.seed, 4) {
         sim::LayerFields fields{&thickness, &young, &threshold, &toughness, s.poisson};
         model = std::make_unique<sim::FemModel>(make_mesh(surface, s.elements, s.seed), surface,
                                                 sim::GrowthField(s.growth, s.kind), s.shrinkage, fields, s.fem);
@@ -38,4 +37,4 @@ struct Layer {
     std::unique_ptr<sim::FemModel> model;
 };
 
-}  // namespace crackle::test
+} // namespace crackle::test

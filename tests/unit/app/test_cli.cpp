@@ -5,6 +5,7 @@
 
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <regex>
 
 using namespace crackle;
@@ -154,5 +155,61 @@ TEST_SUITE("app") {
         CHECK(thickness_min > 0.0049);
         CHECK(thickness_max > 0.0135);
         CHECK(thickness_max < 0.0151);
+    }
+
+    TEST_CASE("cli: simulate runs fem-remove on plane and cylinder and sphere and writes its report") {
+        const auto dir = test::scratch_dir("cli-simulate");
+        for (const char* preset : {"mud", "bark", "fruit"}) {
+            CAPTURE(preset);
+            const fs::path json = dir / (std::string(preset) + ".json");
+            const fs::path csv = dir / (std::string(preset) + ".csv");
+            const fs::path png = dir / (std::string(preset) + ".png");
+            const auto r = run_cli({"simulate", preset, "--set", "simulation.elements=400", "--json", json.string(),
+                                    "--events", csv.string(), "--png", png.string(), "--png-size", "64"});
+            REQUIRE(r.code == 0);
+            CHECK(contains(r.out, "fragments"));
+            const std::string report = test::slurp(json);
+            // The field names fixed in design.md.
+            for (const char* field :
+                 {"\"method\": \"fem-remove\"", "\"seed\"", "\"elements_initial\"", "\"elements_final\"", "\"nodes\"",
+                  "\"fracture_events\"", "\"fragments\"", "\"mean_fragment_area\"", "\"crack_length_per_area\"",
+                  "\"anisotropy\"", "\"dominant_angle_deg\"", "\"psi6\"", "\"t_junction_fraction\"",
+                  "\"y_junction_fraction\"", "\"min_angle_deg\"", "\"wall_seconds\"", "\"peak_memory_mb\""})
+                CHECK_MESSAGE(contains(report, field), field);
+            const std::string events = test::slurp(csv);
+            CHECK(events.rfind("time,x,y,z,u,v,kind,ratio\n", 0) == 0);
+            CHECK(std::count(events.begin(), events.end(), '\n') > 5);
+            CHECK(test::slurp(png).substr(1, 3) == "PNG");
+        }
+    }
+
+    TEST_CASE("cli: a solver that cannot converge exits with code 3 and reports iterations and residual") {
+        const auto r = run_cli(
+            {"simulate", "mud", "--set", "simulation.elements=300", "--set", "simulation.solver_max_iterations=1"});
+        CHECK(r.code == 3);
+        CHECK(contains(r.err, "iterations"));
+        CHECK(contains(r.err, "residual"));
+    }
+
+    TEST_CASE("cli: a fracture method that is not available is refused before any work") {
+        const auto r = run_cli({"simulate", "mud", "--set", "simulation.method=graph-fem"});
+        CHECK(r.code == 2);
+        CHECK(contains(r.err, "simulation.method"));
+        CHECK(contains(r.err, "--set"));
+    }
+
+    TEST_CASE("cli: simulate is deterministic for a preset and seed") {
+        const auto dir = test::scratch_dir("cli-simulate-determinism");
+        auto events = [&](const std::string& seed, const std::string& name) {
+            const fs::path csv = dir / name;
+            REQUIRE(run_cli({"-q", "simulate", "mud", "--seed", seed, "--set", "simulation.elements=500", "--events",
+                             csv.string()})
+                        .code
+                    == 0);
+            return test::slurp(csv);
+        };
+        const std::string a = events("3", "a.csv"), b = events("3", "b.csv"), c = events("4", "c.csv");
+        CHECK(a == b);
+        CHECK(a != c);
     }
 }
