@@ -1,5 +1,6 @@
 #include "app/cli.hpp"
 
+#include "app/bench.hpp"
 #include "app/commands.hpp"
 #include "core/error.hpp"
 #include "core/log.hpp"
@@ -71,6 +72,13 @@ int run(int argc, const char* const* argv, std::ostream& out, std::ostream& err)
         ->capture_default_str();
     add_preset_options(simulate, sim_args.preset);
 
+    // === bench
+    BenchArgs bench_args;
+    CLI::App* bench = app.add_subcommand("bench", "Measure speed on fixed scenes (figures for docs/benchmarks.md)");
+    bench->add_option("SCENE", bench_args.scenes, "Scenes to run: solve, fem-remove (default: all)");
+    bench->add_flag("--quick", bench_args.quick, "Small sizes only");
+    bench->add_option("--out", bench_args.out_dir, "Folder for bench.json");
+
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {
@@ -107,6 +115,8 @@ int run(int argc, const char* const* argv, std::ostream& out, std::ostream& err)
             code = mesh_command(mesh_args, global, out);
         else if (simulate->parsed())
             code = simulate_command(sim_args, global, out);
+        else if (bench->parsed())
+            code = bench_command(bench_args, out);
     } catch (const InputError& e) {
         err << "error: " << e.what() << "\n";
         code = 2;

@@ -168,8 +168,7 @@ int simulate_command(const SimulateArgs& args, const GlobalOptions& global, std:
     times.emplace_back("fracture", step.seconds());
     times.emplace_back("fracture.solve", run.solve_seconds);
     times.emplace_back("fracture.stress", run.stress_seconds);
-    times.emplace_back("fracture.bookkeeping",
-                       std::max(0.0, run.total_seconds - run.solve_seconds - run.stress_seconds));
+    times.emplace_back("fracture.topology", run.topology_seconds);
 
     step.reset();
     const fracture::PatternStatistics st = fracture::pattern_statistics(pattern);

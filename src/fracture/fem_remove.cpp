@@ -278,7 +278,10 @@ CrackPattern run_fem_remove(sim::FemModel& model, const FractureOptions& options
     while (true) {
         progress.update(model.time());
         Candidate cand;
-        if (pick_candidate(model, cache, rng, cand)) {
+        Timer timer;
+        const bool have = pick_candidate(model, cache, rng, cand);
+        stats.stress_seconds += timer.seconds();
+        if (have) {
             if (events.size() >= options.max_events) {
                 capped = true;
                 log::warn("fracture stopped at simulation.max_events = ", options.max_events, " (t = ", model.time(),
@@ -291,25 +294,27 @@ CrackPattern run_fem_remove(sim::FemModel& model, const FractureOptions& options
             ev.position = reference_centroid(model, f);
             ev.ratio = cand.ratio;
             std::vector<std::size_t> moved;
+            timer.reset();
             if (options.min_element_size > 0 && model.element_size(f) > options.min_element_size) {
                 // Alg. 8: too coarse to remove; refine here instead (Rivara, Alg. 9).
-                Timer timer;
                 const std::vector<FaceId> touched = model.subdivide(f);
                 ev.kind = "subdivide";
                 ++stats.subdivisions;
                 cache.resize();
-                stats.stress_seconds += timer.seconds();
+                stats.topology_seconds += timer.seconds();
                 moved = relax_near(vertices_of(touched));
+                timer.reset();
                 for (FaceId t : touched)
                     cache.refresh(ix(t)); // new elements: σ and σ̇
             } else {
                 model.remove_element(f);
                 ev.kind = "remove";
                 ++stats.removals;
-                cache.refresh(cand.face);
+                stats.topology_seconds += timer.seconds();
                 moved = relax_near(vertices_of({f}));
+                timer.reset();
+                cache.refresh(cand.face);
             }
-            Timer timer;
             cache.refresh_around(moved);
             stats.stress_seconds += timer.seconds();
             events.push_back(ev);
@@ -321,21 +326,35 @@ CrackPattern run_fem_remove(sim::FemModel& model, const FractureOptions& options
         if (!rate_seeds.empty()) {
             std::sort(rate_seeds.begin(), rate_seeds.end());
             rate_seeds.erase(std::unique(rate_seeds.begin(), rate_seeds.end()), rate_seeds.end());
-            Timer solve_timer;
+            timer.reset();
             const sim::SolveStats s = options.local_relaxation
                                           ? model.relax_rate_local(rate_seeds, rate_radius, local_options)
                                           : model.solve_rate();
             stats.solver_iterations += s.iterations;
             ++stats.solves;
-            stats.solve_seconds += solve_timer.seconds();
-            Timer stress_timer;
+            stats.solve_seconds += timer.seconds();
+            timer.reset();
             cache.refresh_around(model.last_updated_vertices(), true);
-            stats.stress_seconds += stress_timer.seconds();
+            stats.stress_seconds += timer.seconds();
             rate_seeds.clear();
+        }
+        // Local relaxations leave small forces behind; clean them up globally once they could
+        // shift a stress by 1e-3 of a threshold (the thesis relaxes globally every time step).
+        timer.reset();
+        if (options.local_relaxation && model.max_residual_force() > 1e-3 * model.force_scale()) {
+            stats.solver_iterations += model.relax().iterations + model.solve_rate().iterations;
+            stats.solves += 2;
+            stats.global_cleanups += 1;
+            stats.solve_seconds += timer.seconds();
+            timer.reset();
+            cache.refresh_all();
+            stats.stress_seconds += timer.seconds();
+        } else {
+            stats.solve_seconds += timer.seconds();
         }
 
         // === Alg. 5: find the time of the next fracture
-        Timer timer;
+        timer.reset();
         const double t0 = model.time();
         const double horizon = std::min(options.duration, model.stiffness_horizon());
         // Earliest possible crossing per element, from λ_max(σ₀ + τσ̇) ≤ ‖σ₀‖ + τ‖σ̇‖: only
@@ -377,28 +396,21 @@ CrackPattern run_fem_remove(sim::FemModel& model, const FractureOptions& options
             }
             last_step = std::max(t_hi - t0, dt_min);
         }
-        // Local relaxations leave small forces behind; clean them up globally once they could
-        // shift a stress by 1e-3 of a threshold (the thesis relaxes globally every time step).
-        if (options.local_relaxation && model.max_residual_force() > 1e-3 * model.force_scale()) {
-            Timer solve_timer;
-            stats.solver_iterations += model.relax().iterations + model.solve_rate().iterations;
-            stats.solves += 2;
-            stats.global_cleanups += 1;
-            stats.solve_seconds += solve_timer.seconds();
-            cache.refresh_all();
-        }
+        stats.stress_seconds += timer.seconds();
+
         // Move along the exact affine solution; no solve unless shrinkage rebuilt the stiffness.
+        timer.reset();
         model.advance_time(t_hi);
         ++stats.time_steps;
         if (model.stiffness_changed()) {
-            stats.stress_seconds += timer.seconds();
-            Timer solve_timer;
             stats.solver_iterations += model.relax().iterations + model.solve_rate().iterations;
             stats.solves += 2;
-            stats.solve_seconds += solve_timer.seconds();
+            stats.solve_seconds += timer.seconds();
             timer.reset();
             cache.refresh_all(); // new B matrices: every stress changes
         } else {
+            stats.solve_seconds += timer.seconds();
+            timer.reset();
             cache.advance(t_hi - t0);
         }
         stats.stress_seconds += timer.seconds();
