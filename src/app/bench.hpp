@@ -9,9 +9,9 @@
 namespace crackle::app {
 
 struct BenchArgs {
-    bool quick = false;               ///< small sizes, for a smoke run
-    std::string out_dir;              ///< where bench.json goes ("" = nowhere)
-    std::vector<std::string> scenes;  ///< empty = all
+    bool quick = false;              ///< small sizes, for a smoke run
+    std::string out_dir;             ///< where bench.json goes ("" = nowhere)
+    std::vector<std::string> scenes; ///< empty = all
 };
 
 /// Runs the scenes and prints Markdown tables. Scenes: "solve" (equilibrium, CG vs direct),
@@ -21,4 +21,4 @@ int bench_command(const BenchArgs& args, std::ostream& out);
 /// The scene names `bench` knows.
 const std::vector<std::string>& bench_scenes();
 
-}  // namespace crackle::app
+} // namespace crackle::app

@@ -26,9 +26,9 @@ struct RunStats {
     std::size_t removals = 0, subdivisions = 0, time_steps = 0, solves = 0;
     long long solver_iterations = 0;
     std::size_t local_solves = 0, local_nodes = 0, local_fallbacks = 0, global_cleanups = 0;
-    double solve_seconds = 0;     ///< equilibrium: local and global solves, moving along the rate
-    double stress_seconds = 0;    ///< stress evaluation, candidate search, Alg. 5's bracketing
-    double topology_seconds = 0;  ///< removing and subdividing elements, matrix updates
+    double solve_seconds = 0;    ///< equilibrium: local and global solves, moving along the rate
+    double stress_seconds = 0;   ///< stress evaluation, candidate search, Alg. 5's bracketing
+    double topology_seconds = 0; ///< removing and subdividing elements, matrix updates
     double total_seconds = 0;
 };
 
