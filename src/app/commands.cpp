@@ -156,6 +156,16 @@ int simulate_command(const SimulateArgs& args, const GlobalOptions& global, std:
     mesh::SurfaceMesh surface_mesh = discretize_scene(*scene, &times);
     const std::size_t elements_initial = surface_mesh.num_faces();
 
+    {
+        // Element removal takes out whole elements: on elements much wider than the layer is
+        // thick, most of the layer goes (thesis Fig. 5.11, failure mode F6).
+        const double edge = mesh::mesh_quality(surface_mesh).edge_mean;
+        const double h = 0.5 * (scene->thickness.min_value() + scene->thickness.max_value());
+        if (edge > 1.5 * h && preset.number("simulation.min_element_size") == 0.0)
+            log::warn("elements (", edge * 100, " cm) are much wider than the layer is thick (", h * 100,
+                      " cm): element removal will take out most of the layer; raise simulation.elements or set "
+                      "simulation.min_element_size");
+    }
     step.reset();
     sim::FemModel model(std::move(surface_mesh), scene->surface, scene->growth, scene->shrinkage, layer_fields(*scene),
                         fem_options(preset));
