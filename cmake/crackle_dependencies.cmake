@@ -49,3 +49,24 @@ target_include_directories(crackle_cholmod SYSTEM INTERFACE ${CHOLMOD_INCLUDE_DI
 target_link_libraries(crackle_cholmod INTERFACE ${CHOLMOD_LIBRARY})
 
 find_package(OpenMP REQUIRED)
+
+find_package(PkgConfig REQUIRED)
+pkg_check_modules(OSMESA QUIET IMPORTED_TARGET osmesa)
+if(NOT OSMESA_FOUND)
+  message(FATAL_ERROR "OSMesa not found: run scripts/setup (apt-get install libosmesa6-dev)")
+endif()
+
+find_package(assimp CONFIG QUIET)
+if(NOT assimp_FOUND)
+  message(FATAL_ERROR "assimp not found: run scripts/setup (apt-get install libassimp-dev)")
+endif()
+
+find_package(TinyGLTF CONFIG QUIET)
+if(NOT TinyGLTF_FOUND)
+  message(FATAL_ERROR "tinygltf not found: run scripts/setup (apt-get install libtinygltf-dev)")
+endif()
+
+find_package(OpenEXR CONFIG QUIET)
+if(NOT OpenEXR_FOUND)
+  message(FATAL_ERROR "OpenEXR not found: run scripts/setup (apt-get install libopenexr-dev)")
+endif()

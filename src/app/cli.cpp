@@ -72,6 +72,34 @@ int run(int argc, const char* const* argv, std::ostream& out, std::ostream& err)
         ->capture_default_str();
     add_preset_options(simulate, sim_args.preset);
 
+    // === bake
+    BakeArgs bake_args;
+    bake_args.preset.name_or_path = "bark";
+    CLI::App* bake = app.add_subcommand("bake", "Run the whole pipeline and bake the texture set (PNG maps)");
+    bake->add_option("PRESET", bake_args.preset.name_or_path, "Built-in preset name or .toml path")
+        ->capture_default_str();
+    bake->add_option("--size", bake_args.size, "Texture size in pixels (overrides bake.size)")
+        ->check(CLI::Range(16, 16384));
+    bake->add_option("--out", bake_args.out_dir, "Output folder (default: out)");
+    bake->add_option("--json", bake_args.json_path, "Write the report as JSON");
+    bake->add_flag("--preview", bake_args.preview, "Quick look: 512 px, 2 samples");
+    add_preset_options(bake, bake_args.preset);
+
+    // === export
+    ExportArgs export_args;
+    export_args.preset.name_or_path = "bark";
+    CLI::App* exp = app.add_subcommand("export", "Export the cracked pieces as a mesh with PBR maps");
+    exp->add_option("PRESET", export_args.preset.name_or_path, "Built-in preset name or .toml path")
+        ->capture_default_str();
+    exp->add_option("--format", export_args.format, "obj, gltf or glb")
+        ->check(CLI::IsMember({"obj", "gltf", "glb"}))
+        ->capture_default_str();
+    exp->add_option("--out", export_args.out_path, "Output file (default: out/<name>.<format>)");
+    exp->add_option("--size", export_args.size, "Map size in pixels (overrides bake.size)")
+        ->check(CLI::Range(16, 16384));
+    exp->add_option("--json", export_args.json_path, "Write the report as JSON");
+    add_preset_options(exp, export_args.preset);
+
     // === bench
     BenchArgs bench_args;
     CLI::App* bench = app.add_subcommand("bench", "Measure speed on fixed scenes (figures for docs/benchmarks.md)");
@@ -115,6 +143,10 @@ int run(int argc, const char* const* argv, std::ostream& out, std::ostream& err)
             code = mesh_command(mesh_args, global, out);
         else if (simulate->parsed())
             code = simulate_command(sim_args, global, out);
+        else if (bake->parsed())
+            code = bake_command(bake_args, global, out);
+        else if (exp->parsed())
+            code = export_command(export_args, global, out);
         else if (bench->parsed())
             code = bench_command(bench_args, out);
     } catch (const InputError& e) {

@@ -1,5 +1,6 @@
 #include "app/commands.hpp"
 
+#include "app/pipeline.hpp"
 #include "app/scene.hpp"
 #include "core/atomic_file.hpp"
 #include "core/json.hpp"
@@ -7,9 +8,12 @@
 #include "core/timer.hpp"
 #include "fracture/preview.hpp"
 #include "fracture/statistics.hpp"
+#include "io/mesh_export.hpp"
 #include "io/obj.hpp"
 #include "io/png.hpp"
+#include "io/texture_set.hpp"
 #include "mesh/surface_mesh.hpp"
+#include "render/gl_context.hpp"
 #include "sim/wedge_mesh.hpp"
 
 #include <cstdio>
@@ -144,64 +148,20 @@ std::string events_csv(const fracture::CrackPattern& p) {
 
 } // namespace
 
-int simulate_command(const SimulateArgs& args, const GlobalOptions& global, std::ostream& out) {
-    Timer total;
-    StepTimes times;
-    Timer step;
-    const io::Preset preset = io::load_preset(args.preset);
-    require_available_method(preset);
-    const std::unique_ptr<Scene> scene = make_scene(preset);
-    times.emplace_back("preset", step.seconds());
+namespace {
 
-    mesh::SurfaceMesh surface_mesh = discretize_scene(*scene, &times);
-    const std::size_t elements_initial = surface_mesh.num_faces();
-
-    {
-        // Element removal takes out whole elements: on elements much wider than the layer is
-        // thick, most of the layer goes (thesis Fig. 5.11, failure mode F6).
-        const double edge = mesh::mesh_quality(surface_mesh).edge_mean;
-        const double h = 0.5 * (scene->thickness.min_value() + scene->thickness.max_value());
-        if (edge > 1.5 * h && preset.number("simulation.min_element_size") == 0.0)
-            log::warn("elements (", edge * 100, " cm) are much wider than the layer is thick (", h * 100,
-                      " cm): element removal will take out most of the layer; raise simulation.elements or set "
-                      "simulation.min_element_size");
-    }
-    step.reset();
-    sim::FemModel model(std::move(surface_mesh), scene->surface, scene->growth, scene->shrinkage, layer_fields(*scene),
-                        fem_options(preset));
-    times.emplace_back("assembly", step.seconds());
-
-    step.reset();
-    Rng rng(scene->seed, RngStream::Fracture);
-    fracture::RunStats run;
-    const fracture::CrackPattern pattern = fracture::run_fem_remove(model, fracture_options(preset), rng, &run);
-    times.emplace_back("fracture", step.seconds());
-    times.emplace_back("fracture.solve", run.solve_seconds);
-    times.emplace_back("fracture.stress", run.stress_seconds);
-    times.emplace_back("fracture.topology", run.topology_seconds);
-
-    step.reset();
-    const fracture::PatternStatistics st = fracture::pattern_statistics(pattern);
-    times.emplace_back("statistics", step.seconds());
-
-    AtomicOutput output;
-    if (!args.events_path.empty()) output.write(args.events_path, events_csv(pattern));
-    if (!args.png_path.empty()) {
-        const fracture::RgbImage img = fracture::preview_image(pattern, args.png_size);
-        output.write(args.png_path, io::encode_png_rgb8(img.width, img.height, 3, img.pixels));
-    }
-    times.emplace_back("total", total.seconds());
-
+/// The report fields of design.md for a finished simulation, plus details.
+Json simulation_report(const io::Preset& preset, const SimulationResult& r, const StepTimes& times) {
+    const auto& st = r.statistics;
     Json report = Json::object();
-    report["command"] = "simulate";
     report["preset"] = preset.name;
-    report["surface"] = mesh::to_string(scene->surface.kind());
-    report["method"] = pattern.method;
-    report["seed"] = static_cast<long long>(scene->seed);
-    report["elements_initial"] = elements_initial;
-    report["elements_final"] = model.num_alive();
-    report["nodes"] = 2 * model.mesh().num_vertices();
-    report["fracture_events"] = pattern.events.size();
+    report["surface"] = mesh::to_string(r.scene->surface.kind());
+    report["method"] = r.pattern.method;
+    report["seed"] = static_cast<long long>(r.scene->seed);
+    report["elements_initial"] = r.elements_initial;
+    report["elements_final"] = r.elements_final;
+    report["nodes"] = r.nodes;
+    report["fracture_events"] = r.pattern.events.size();
     report["fragments"] = st.fragments;
     report["mean_fragment_area"] = st.mean_fragment_area;
     report["crack_length_per_area"] = st.crack_length_per_area;
@@ -217,44 +177,222 @@ int simulate_command(const SimulateArgs& args, const GlobalOptions& global, std:
     report["wall_seconds"] = wall;
     report["peak_memory_mb"] = peak_memory_mb();
     // Beyond the fixed fields: details for researchers.
-    report["final_time"] = pattern.final_time;
-    report["events_capped"] = pattern.events_capped;
-    report["removals"] = run.removals;
-    report["subdivisions"] = run.subdivisions;
-    report["time_steps"] = run.time_steps;
-    report["solves"] = run.solves;
-    report["solver_iterations"] = run.solver_iterations;
-    report["local_solves"] = run.local_solves;
-    report["local_mean_nodes"] = run.local_solves ? double(run.local_nodes) / double(run.local_solves) : 0.0;
-    report["local_fallbacks"] = run.local_fallbacks;
-    report["global_cleanups"] = run.global_cleanups;
+    report["final_time"] = r.pattern.final_time;
+    report["events_capped"] = r.pattern.events_capped;
+    report["removals"] = r.run.removals;
+    report["subdivisions"] = r.run.subdivisions;
+    report["time_steps"] = r.run.time_steps;
+    report["solves"] = r.run.solves;
+    report["solver_iterations"] = r.run.solver_iterations;
+    report["local_solves"] = r.run.local_solves;
+    report["local_mean_nodes"] = r.run.local_solves ? double(r.run.local_nodes) / double(r.run.local_solves) : 0.0;
+    report["local_fallbacks"] = r.run.local_fallbacks;
+    report["global_cleanups"] = r.run.global_cleanups;
     report["crack_length"] = st.crack_length;
     report["junctions"] = st.junctions;
     report["axial_fraction"] = st.axial_fraction;
     report["total_area"] = st.total_area;
+    return report;
+}
+
+void print_times(std::ostream& out, const StepTimes& times) {
+    out << "  wall time   ";
+    for (const auto& [name, seconds] : times)
+        out << " " << name << " " << fmt("%.3f", seconds) << " s;";
+    out << "\n  peak memory  " << fmt("%.1f", peak_memory_mb()) << " MiB\n";
+}
+
+void print_simulation(std::ostream& out, const io::Preset& preset, const SimulationResult& r) {
+    const auto& st = r.statistics;
+    out << "  elements     " << r.elements_initial << " initial, " << r.elements_final << " intact at the end ("
+        << r.run.removals << " removed, " << r.run.subdivisions << " subdivisions)\n";
+    out << "  time         " << fmt("%.4g", r.pattern.final_time) << " of "
+        << fmt("%.4g", preset.number("simulation.duration"))
+        << (r.pattern.events_capped ? " (stopped at simulation.max_events)" : "") << "; " << r.run.time_steps
+        << " time steps, " << r.run.solves << " solves\n";
+    out << "  fragments    " << st.fragments << ", mean area " << fmt("%.4g", st.mean_fragment_area * 1e4) << " cm2\n";
+    out << "  cracks       " << fmt("%.4g", st.crack_length_per_area) << " m/m2, anisotropy "
+        << fmt("%.3f", st.anisotropy) << " at " << fmt("%.1f", st.dominant_angle_deg) << " deg, psi6 "
+        << fmt("%.3f", st.psi6) << "\n";
+    out << "  junctions    " << st.junctions << " (T " << fmt("%.2f", st.t_junction_fraction) << ", Y "
+        << fmt("%.2f", st.y_junction_fraction) << ")\n";
+}
+
+/// Everything a bake or export needs: the simulation, the pieces and the maps.
+struct Baked {
+    SimulationResult sim;
+    post::PieceMesh pieces;
+    render::TextureSet maps;
+};
+
+Baked bake_pipeline(const io::Preset& preset, StepTimes& times) {
+    Baked b;
+    b.sim = run_simulation(preset, times);
+    Timer step;
+    b.pieces = post::build_pieces(b.sim.pattern, post_options(preset));
+    times.emplace_back("post", step.seconds());
+    step.reset();
+    render::GlContext context;
+    times.emplace_back("gl_context", step.seconds());
+    step.reset();
+    b.maps = render::bake(b.pieces, bake_options(preset), context);
+    times.emplace_back("bake", step.seconds());
+    times.emplace_back("bake.render", b.maps.render_seconds);
+    times.emplace_back("bake.readback", b.maps.readback_seconds);
+    times.emplace_back("bake.ambient_occlusion", b.maps.ao_seconds);
+    return b;
+}
+
+/// Applies the bake command's shortcuts to the preset request.
+io::PresetRequest with_bake_overrides(io::PresetRequest request, int size, bool preview) {
+    if (preview) {
+        request.overrides.insert(request.overrides.begin(), "bake.size=512");
+        request.overrides.insert(request.overrides.begin(), "bake.samples=2");
+    }
+    if (size > 0) request.overrides.push_back("bake.size=" + std::to_string(size));
+    return request;
+}
+
+} // namespace
+
+int simulate_command(const SimulateArgs& args, const GlobalOptions& global, std::ostream& out) {
+    Timer total;
+    StepTimes times;
+    const io::Preset preset = io::load_preset(args.preset);
+    require_available_method(preset);
+    const SimulationResult r = run_simulation(preset, times);
+
+    AtomicOutput output;
+    if (!args.events_path.empty()) output.write(args.events_path, events_csv(r.pattern));
+    if (!args.png_path.empty()) {
+        const fracture::RgbImage img = fracture::preview_image(r.pattern, args.png_size);
+        output.write(args.png_path, io::encode_png_rgb8(img.width, img.height, 3, img.pixels));
+    }
+    times.emplace_back("total", total.seconds());
+    Json report = simulation_report(preset, r, times);
+    report["command"] = "simulate";
     if (!args.json_path.empty()) output.write(args.json_path, report.dump());
     output.commit();
 
     if (!global.quiet) {
-        out << "crackle simulate: " << preset.name << " (" << mesh::to_string(scene->surface.kind()) << ", "
-            << pattern.method << "), seed " << scene->seed << "\n";
-        out << "  elements     " << elements_initial << " initial, " << model.num_alive() << " intact at the end ("
-            << run.removals << " removed, " << run.subdivisions << " subdivisions)\n";
-        out << "  time         " << fmt("%.4g", pattern.final_time) << " of "
-            << fmt("%.4g", preset.number("simulation.duration"))
-            << (pattern.events_capped ? " (stopped at simulation.max_events)" : "") << "; " << run.time_steps
-            << " time steps, " << run.solves << " solves\n";
-        out << "  fragments    " << st.fragments << ", mean area " << fmt("%.4g", st.mean_fragment_area * 1e4)
-            << " cm2\n";
-        out << "  cracks       " << fmt("%.4g", st.crack_length_per_area) << " m/m2, anisotropy "
-            << fmt("%.3f", st.anisotropy) << " at " << fmt("%.1f", st.dominant_angle_deg) << " deg, psi6 "
-            << fmt("%.3f", st.psi6) << "\n";
-        out << "  junctions    " << st.junctions << " (T " << fmt("%.2f", st.t_junction_fraction) << ", Y "
-            << fmt("%.2f", st.y_junction_fraction) << ")\n";
-        out << "  wall time   ";
-        for (const auto& [name, seconds] : times)
-            out << " " << name << " " << fmt("%.3f", seconds) << " s;";
-        out << "\n  peak memory  " << fmt("%.1f", peak_memory_mb()) << " MiB\n";
+        out << "crackle simulate: " << preset.name << " (" << mesh::to_string(r.scene->surface.kind()) << ", "
+            << r.pattern.method << "), seed " << r.scene->seed << "\n";
+        print_simulation(out, preset, r);
+        print_times(out, times);
+    }
+    return 0;
+}
+
+int bake_command(const BakeArgs& args, const GlobalOptions& global, std::ostream& out) {
+    Timer total;
+    StepTimes times;
+    const io::Preset preset = io::load_preset(with_bake_overrides(args.preset, args.size, args.preview));
+    require_available_method(preset);
+    const std::string name = output_name(preset);
+    const std::filesystem::path dir =
+        args.out_dir.empty() ? std::filesystem::path("out") : std::filesystem::path(args.out_dir);
+    const Baked b = bake_pipeline(preset, times);
+
+    double encode = 0;
+    const std::vector<io::EncodedMap> maps = io::encode_texture_set(b.maps, preset.flag("bake.exr"), &encode);
+    times.emplace_back("encode", encode);
+    AtomicOutput output;
+    Json files = Json::array();
+    for (const io::EncodedMap& m : maps) {
+        const std::filesystem::path path = io::map_path(dir, name, m);
+        output.write(path, m.bytes);
+        files.push_back(path.string());
+    }
+    times.emplace_back("total", total.seconds());
+    Json report = simulation_report(preset, b.sim, times);
+    report["command"] = "bake";
+    report["size"] = b.maps.size;
+    report["displacement_scale_m"] = b.maps.height_scale;
+    report["files"] = files;
+    if (!args.json_path.empty()) output.write(args.json_path, report.dump());
+    output.commit();
+
+    if (!global.quiet) {
+        out << "crackle bake: " << preset.name << " (" << mesh::to_string(b.sim.scene->surface.kind()) << ", "
+            << b.sim.pattern.method << "), seed " << b.sim.scene->seed << ", " << b.maps.size << " px\n";
+        print_simulation(out, preset, b.sim);
+        out << "  maps         " << maps.size() << " files in " << dir.string() << "/ (" << name
+            << "_Color.png ...); displacement 1.0 = " << fmt("%.4g", b.maps.height_scale * 1000) << " mm\n";
+        print_times(out, times);
+    }
+    return 0;
+}
+
+int export_command(const ExportArgs& args, const GlobalOptions& global, std::ostream& out) {
+    Timer total;
+    StepTimes times;
+    const io::Preset preset = io::load_preset(with_bake_overrides(args.preset, args.size, false));
+    require_available_method(preset);
+    const std::string name = output_name(preset);
+    const std::filesystem::path file = args.out_path.empty() ? std::filesystem::path("out") / (name + "." + args.format)
+                                                             : std::filesystem::path(args.out_path);
+    const std::filesystem::path dir = file.parent_path();
+    const std::string base = file.stem().string();
+    const Baked b = bake_pipeline(preset, times);
+
+    Timer step;
+    const io::ExportMesh mesh = io::export_mesh(b.pieces);
+    double encode = 0;
+    const std::vector<io::EncodedMap> encoded = io::encode_texture_set(b.maps, false, &encode);
+    io::MaterialMaps mat;
+    mat.name = base;
+    for (const io::EncodedMap& m : encoded) {
+        if (m.suffix == "Color") mat.color = m;
+        if (m.suffix == "NormalGL") mat.normal = m;
+    }
+    mat.orm = io::encode_orm(b.maps);
+    auto uri = [&](const io::EncodedMap& m) { return io::map_path("", base, m).string(); };
+    mat.color_uri = uri(mat.color);
+    mat.normal_uri = uri(mat.normal);
+    mat.orm_uri = uri(mat.orm);
+    mat.roughness_uri = base + "_Roughness.png";
+    mat.ao_uri = base + "_AmbientOcclusion.png";
+
+    AtomicOutput output;
+    std::vector<std::string> written;
+    auto write = [&](const std::filesystem::path& path, const std::vector<std::uint8_t>& bytes) {
+        output.write(path, bytes);
+        written.push_back(path.string());
+    };
+    if (args.format == "glb") {
+        write(file, io::gltf_bytes(mesh, mat, true));
+    } else {
+        // External maps next to the mesh file.
+        for (const io::EncodedMap& m : encoded)
+            write(io::map_path(dir, base, m), m.bytes);
+        write(io::map_path(dir, base, mat.orm), mat.orm.bytes);
+        if (args.format == "gltf") {
+            write(file, io::gltf_bytes(mesh, mat, false));
+        } else {
+            const auto [obj, mtl] = io::obj_files(mesh, mat, base + ".mtl");
+            output.write(file, obj);
+            output.write(dir / (base + ".mtl"), mtl);
+            written.push_back(file.string());
+            written.push_back((dir / (base + ".mtl")).string());
+        }
+    }
+    times.emplace_back("export", step.seconds());
+    times.emplace_back("total", total.seconds());
+    Json report = simulation_report(preset, b.sim, times);
+    report["command"] = "export";
+    report["format"] = args.format;
+    report["vertices"] = mesh.positions.size() / 3;
+    report["triangles"] = mesh.indices.size() / 3;
+    Json files = Json::array();
+    for (const auto& w : written)
+        files.push_back(w);
+    report["files"] = files;
+    if (!args.json_path.empty()) output.write(args.json_path, report.dump());
+    output.commit();
+    if (!global.quiet) {
+        out << "crackle export: " << preset.name << " -> " << file.string() << " (" << mesh.positions.size() / 3
+            << " vertices, " << mesh.indices.size() / 3 << " triangles, " << b.maps.size << " px maps)\n";
+        print_times(out, times);
     }
     return 0;
 }

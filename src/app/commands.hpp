@@ -38,4 +38,26 @@ struct SimulateArgs {
 /// `crackle simulate`: grow and crack the preset's surface, report the pattern statistics.
 int simulate_command(const SimulateArgs& args, const GlobalOptions& global, std::ostream& out);
 
+struct BakeArgs {
+    io::PresetRequest preset;
+    int size = 0;         ///< --size (0 = bake.size)
+    bool preview = false; ///< --preview: 512 px, 2 samples
+    std::string out_dir;  ///< "" = out/
+    std::string json_path;
+};
+
+/// `crackle bake`: the whole pipeline to a texture set.
+int bake_command(const BakeArgs& args, const GlobalOptions& global, std::ostream& out);
+
+struct ExportArgs {
+    io::PresetRequest preset;
+    std::string format = "glb"; ///< obj | gltf | glb
+    std::string out_path;       ///< "" = out/<name>.<format>
+    int size = 0;               ///< map size (0 = bake.size)
+    std::string json_path;
+};
+
+/// `crackle export`: the piece mesh as OBJ or glTF with its PBR maps.
+int export_command(const ExportArgs& args, const GlobalOptions& global, std::ostream& out);
+
 } // namespace crackle::app

@@ -15,6 +15,8 @@ struct EmbeddedFile {
 namespace embedded {
 /// presets/**/*.toml
 const std::vector<EmbeddedFile>& presets();
+/// shaders/*.vert, *.frag, *.glsl
+const std::vector<EmbeddedFile>& shaders();
 } // namespace embedded
 
 } // namespace crackle

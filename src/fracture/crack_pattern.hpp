@@ -37,6 +37,11 @@ struct CrackPattern {
     std::vector<Vec3> deformed; ///< #V final top-node positions (canonical copies)
     std::array<Vec3, 2> deformed_period = {Vec3::Zero(), Vec3::Zero()}; ///< final period vectors
     std::vector<double> thickness;                                      ///< #V layer thickness (m)
+    std::vector<double> young_modulus;                                  ///< #F Young's modulus per face (Pa)
+    double poisson_ratio = 0.3;
+    /// The background's affine growth map at the final time: bottom(t) = growth_map · P(0)
+    /// (Eq. 3.4 with v = T·x: I + t·T).
+    Mat3 growth_map = Mat3::Identity();
     std::vector<char> removed; ///< #F 1 where an element was removed (crack material)
     std::vector<int> fragment; ///< #F fragment label, −1 on removed faces
     int num_fragments = 0;

@@ -194,8 +194,13 @@ CrackPattern pattern_from_model(const sim::FemModel& model, const std::string& m
         p.deformed_period[static_cast<std::size_t>(i)] =
             model.growth().period_shift(p.mesh.period_vectors[static_cast<std::size_t>(i)], model.time());
     p.removed.resize(nf);
-    for (std::size_t f = 0; f < nf; ++f)
+    p.young_modulus.resize(nf);
+    for (std::size_t f = 0; f < nf; ++f) {
         p.removed[f] = model.alive(face_id(f)) ? 0 : 1;
+        p.young_modulus[f] = model.material(face_id(f)).young_modulus;
+    }
+    p.poisson_ratio = model.poisson_ratio();
+    p.growth_map = Mat3::Identity() + model.time() * model.growth().tensor();
     label_fragments(p);
     // Crack lips: intact edges facing a removed element; the opening is the removed
     // element's deformed height over that edge, its depth the layer thickness.

@@ -53,6 +53,16 @@ KeySpec array(std::string section, std::string key, std::vector<double> def, int
     return s;
 }
 
+KeySpec boolean(std::string section, std::string key, bool def, std::string description) {
+    KeySpec s;
+    s.section = std::move(section);
+    s.key = std::move(key);
+    s.type = ValueType::Bool;
+    s.default_value = def;
+    s.description = std::move(description);
+    return s;
+}
+
 KeySpec text(std::string section, std::string key, std::string def, std::string description) {
     KeySpec s;
     s.section = std::move(section);
@@ -165,10 +175,32 @@ std::vector<KeySpec> build_schema() {
                        "thickness (fine elements where cracks are dense)."));
     // === [post]
     s.push_back(number("post", "curl", 0.0, "", 0.0, 10.0,
-                       "0 = pieces stay glued to the background; > 0 = cracked pieces peel and their rims curl "
-                       "up (Fig. 4.11)."));
+                       "0 = pieces stay glued to the background; > 0 = cracked pieces detach and their rims lift, "
+                       "by this many layer thicknesses at the edge (Fig. 4.11 bottom, peeling paint)."));
+    s.push_back(number("post", "curl_width", 3.0, "", 0.1, 100.0,
+                       "How far in from a crack the curl reaches, in layer thicknesses."));
+    s.push_back(array("post", "shrinkage", {0.0, 0.0}, 2, 2, "", -0.5, 0.5,
+                      "Further shrinkage [top, bottom] after the pattern has formed (drying, weathering): the "
+                      "tops pull back from the cracks, which open into V-shaped grooves. Solved with the wedge FEM."));
+    s.push_back(number("post", "bevel", 0.0, "m", 0.0, 1.0, "Radius of the rounding of crack lips; 0 = sharp edges."));
     // === [bake]
     s.push_back(integer("bake", "size", 2048, "px", 16, 16384, "Texture size in pixels per side."));
+    s.push_back(integer("bake", "samples", 4, "", 1, 16, "Anti-aliasing samples per pixel (MSAA); 1 = none."));
+    s.push_back(
+        boolean("bake", "exr", false, "Also write the displacement as a 32-bit float OpenEXR file, in metres."));
+    s.push_back(array("bake", "color", {0.55, 0.45, 0.35}, 3, 3, "sRGB", 0.0, 1.0,
+                      "Albedo of the top surface, sRGB [r, g, b] in 0..1."));
+    s.push_back(array("bake", "crack_color", {0.12, 0.1, 0.08}, 3, 3, "sRGB", 0.0, 1.0,
+                      "Albedo of crack walls and floors, sRGB [r, g, b] in 0..1; darker with depth."));
+    s.push_back(number("bake", "color_variation", 0.3, "", 0.0, 1.0, "How much each piece's brightness and hue vary."));
+    s.push_back(
+        number("bake", "roughness", 0.85, "", 0.0, 1.0, "Roughness of the top surface (cracks a little rougher)."));
+    s.push_back(number("bake", "roughness_variation", 0.1, "", 0.0, 1.0, "Per-piece roughness variation."));
+    s.push_back(number("bake", "ao_radius", 0.0, "m", 0.0, 10.0,
+                       "Reach of the ambient occlusion; 0 = twice the layer's height."));
+    s.push_back(number("bake", "ao_strength", 1.0, "", 0.0, 4.0, "Darkening of the ambient occlusion map."));
+    s.push_back(
+        text("bake", "name", "", "Base name of the map files (<name>_Color.png, ...); empty = the preset's name."));
     return s;
 }
 
@@ -197,7 +229,7 @@ const std::vector<std::pair<std::string, std::string>>& preset_sections() {
                            std::string("How the layer's ") + prop + " varies over the surface (§5.9).");
         v.emplace_back("simulation", "Discretization and the fracture model (§5.2, Ch. 4–5).");
         v.emplace_back("post", "Post-processing of the crack pattern into pieces (§4.5).");
-        v.emplace_back("bake", "Texture baking.");
+        v.emplace_back("bake", "Texture baking: maps, colours, anti-aliasing (`crackle bake`, `crackle export`).");
         return v;
     }();
     return sections;

@@ -71,8 +71,10 @@ FemModel::FemModel(mesh::SurfaceMesh mesh, const mesh::Surface& surface, const G
                    const ShrinkageOptions& shrinkage, const LayerFields& fields, const FemOptions& options)
     : m_mesh(std::move(mesh)), m_surface(surface), m_growth(growth), m_shrinkage(shrinkage), m_fields(fields),
       m_options(options), m_solver(std::make_unique<Solver>()) {
-    CRACKLE_ASSERT(fields.thickness && fields.young_modulus && fields.threshold_stress && fields.toughness,
-                   "every layer field must be given");
+    CRACKLE_ASSERT(
+        (fields.thickness || fields.vertex_thickness)
+            && ((fields.young_modulus && fields.threshold_stress && fields.toughness) || fields.face_material),
+        "every layer field must be given");
     m_solver->kind = options.solver;
     const std::size_t nv = m_mesh.num_vertices(), nf = m_mesh.num_faces();
     m_normal.resize(nv);
@@ -107,7 +109,7 @@ void FemModel::init_vertex(std::size_t v) {
     const Vec3& p = m_mesh.positions[vertex_id(v)];
     const Vec2 uv = m_surface.periodic() ? m_surface.uv_of_domain(m_mesh.domain[vertex_id(v)]) : m_surface.uv(p);
     m_normal[v] = m_surface.normal(p);
-    m_thickness[v] = m_fields.thickness->at(p, uv);
+    m_thickness[v] = m_fields.vertex_thickness ? (*m_fields.vertex_thickness)[v] : m_fields.thickness->at(p, uv);
     CRACKLE_ASSERT(m_thickness[v] > 0, "non-positive layer thickness at vertex " << v);
     // Rest position: straight above the background at the current time.
     const double s_bar = 0.5 * (m_shrinkage.top(m_time) + m_shrinkage.bottom(m_time));
@@ -117,6 +119,11 @@ void FemModel::init_vertex(std::size_t v) {
 void FemModel::init_element(std::size_t f) {
     const FaceId id = face_id(f);
     ElementMaterial& mat = m_material[f];
+    if (m_fields.face_material) {
+        mat = (*m_fields.face_material)[f];
+        build_element_stiffness(f);
+        return;
+    }
     mat.young_modulus = m_fields.young_modulus->face_average(m_mesh, id, m_surface);
     mat.threshold_stress = m_fields.threshold_stress->face_average(m_mesh, id, m_surface);
     mat.toughness = m_fields.toughness->face_average(m_mesh, id, m_surface);

@@ -46,18 +46,22 @@ struct FemOptions {
 
 /// The layer's physical fields (§5.9), sampled per element (E, threshold, toughness) and per
 /// vertex (thickness).
+struct ElementMaterial {
+    double young_modulus = 0;
+    double threshold_stress = 0;
+    double toughness = 0;
+};
+
 struct LayerFields {
     const PropertyField* thickness = nullptr;
     const PropertyField* young_modulus = nullptr;
     const PropertyField* threshold_stress = nullptr;
     const PropertyField* toughness = nullptr;
     double poisson_ratio = 0.3;
-};
-
-struct ElementMaterial {
-    double young_modulus = 0;
-    double threshold_stress = 0;
-    double toughness = 0;
+    /// Explicit values instead of the fields (post-processing a finished pattern): thickness per
+    /// vertex (#V) and material per face (#F). Models built this way cannot be subdivided.
+    const std::vector<double>* vertex_thickness = nullptr;
+    const std::vector<ElementMaterial>* face_material = nullptr;
 };
 
 struct SolveStats {

@@ -1,0 +1,90 @@
+#include "app/pipeline.hpp"
+
+#include "core/log.hpp"
+#include "core/timer.hpp"
+
+#include <filesystem>
+
+namespace crackle::app {
+
+SimulationResult run_simulation(const io::Preset& preset, StepTimes& times) {
+    SimulationResult r;
+    Timer step;
+    r.scene = make_scene(preset);
+    times.emplace_back("preset", step.seconds());
+    mesh::SurfaceMesh surface_mesh = discretize_scene(*r.scene, &times);
+    r.elements_initial = surface_mesh.num_faces();
+    {
+        // Element removal takes out whole elements: on elements much wider than the layer is
+        // thick, most of the layer goes (thesis Fig. 5.11, failure mode F6).
+        const double edge = mesh::mesh_quality(surface_mesh).edge_mean;
+        const double h = 0.5 * (r.scene->thickness.min_value() + r.scene->thickness.max_value());
+        if (edge > 1.5 * h && preset.number("simulation.min_element_size") == 0.0)
+            log::warn("elements (", edge * 100, " cm) are much wider than the layer is thick (", h * 100,
+                      " cm): element removal will take out most of the layer; raise simulation.elements or set "
+                      "simulation.min_element_size");
+    }
+    step.reset();
+    sim::FemModel model(std::move(surface_mesh), r.scene->surface, r.scene->growth, r.scene->shrinkage,
+                        layer_fields(*r.scene), fem_options(preset));
+    times.emplace_back("assembly", step.seconds());
+    step.reset();
+    Rng rng(r.scene->seed, RngStream::Fracture);
+    r.pattern = fracture::run_fem_remove(model, fracture_options(preset), rng, &r.run);
+    times.emplace_back("fracture", step.seconds());
+    times.emplace_back("fracture.solve", r.run.solve_seconds);
+    times.emplace_back("fracture.stress", r.run.stress_seconds);
+    times.emplace_back("fracture.topology", r.run.topology_seconds);
+    r.elements_final = model.num_alive();
+    r.nodes = 2 * model.mesh().num_vertices();
+    step.reset();
+    r.statistics = fracture::pattern_statistics(r.pattern);
+    times.emplace_back("statistics", step.seconds());
+    return r;
+}
+
+post::PostOptions post_options(const io::Preset& preset) {
+    post::PostOptions o;
+    o.curl = preset.number("post.curl");
+    o.curl_width = preset.number("post.curl_width");
+    const auto& s = preset.numbers("post.shrinkage");
+    o.shrink_top = s[0];
+    o.shrink_bottom = s[1];
+    o.bevel = preset.number("post.bevel");
+    return o;
+}
+
+namespace {
+/// sRGB → linear (the shaders work in linear light; the colour target encodes back).
+Vec3 linear_from_srgb(const std::vector<double>& c) {
+    auto f = [](double x) { return x <= 0.04045 ? x / 12.92 : std::pow((x + 0.055) / 1.055, 2.4); };
+    return Vec3(f(c[0]), f(c[1]), f(c[2]));
+}
+} // namespace
+
+render::BakeOptions bake_options(const io::Preset& preset) {
+    render::BakeOptions o;
+    o.size = static_cast<int>(preset.integer("bake.size"));
+    o.samples = static_cast<int>(preset.integer("bake.samples"));
+    o.color = linear_from_srgb(preset.numbers("bake.color"));
+    o.crack_color = linear_from_srgb(preset.numbers("bake.crack_color"));
+    o.color_variation = preset.number("bake.color_variation");
+    o.roughness = preset.number("bake.roughness");
+    o.roughness_variation = preset.number("bake.roughness_variation");
+    o.ao_radius = preset.number("bake.ao_radius");
+    o.ao_strength = preset.number("bake.ao_strength");
+    o.seed = static_cast<std::uint32_t>(preset.integer("simulation.seed") & 0xffffffff);
+    return o;
+}
+
+std::string output_name(const io::Preset& preset) {
+    const std::string& configured = preset.text("bake.name");
+    if (!configured.empty()) return configured;
+    std::string name = preset.name;
+    if (name.size() > 5 && name.substr(name.size() - 5) == ".toml") name = std::filesystem::path(name).stem().string();
+    for (char& c : name)
+        if (c == '/' || c == '\\') c = '-';
+    return name;
+}
+
+} // namespace crackle::app

@@ -1,0 +1,337 @@
+#include "post/pieces.hpp"
+
+#include "core/error.hpp"
+#include "core/log.hpp"
+#include "sim/fem_model.hpp"
+
+#include <map>
+#include <queue>
+
+namespace crackle::post {
+
+using mesh::face_id;
+using mesh::FaceId;
+using mesh::ix;
+using mesh::vertex_id;
+
+Vec2 reference_uv(const mesh::Surface& surface, const Vec3& p0) {
+    return surface.uv(p0);
+}
+
+namespace {
+
+/// The pieces as a mesh of their own: every fragment gets its own copy of its vertices, so
+/// the lips of a crack are separate boundary edges.
+struct PieceTopology {
+    mesh::SurfaceMesh mesh;
+    std::vector<std::uint32_t> source_vertex; ///< piece vertex → pattern vertex
+    std::vector<int> fragment;                ///< piece vertex → fragment
+    std::vector<std::uint32_t> source_face;   ///< piece face → pattern face
+};
+
+PieceTopology split_by_fragment(const fracture::CrackPattern& p) {
+    PieceTopology t;
+    t.mesh.periodic = p.mesh.periodic;
+    t.mesh.period = p.mesh.period;
+    t.mesh.period_vectors = p.mesh.period_vectors;
+    std::map<std::pair<std::uint32_t, int>, std::uint32_t> copy;
+    for (std::size_t fi = 0; fi < p.mesh.num_faces(); ++fi) {
+        if (p.removed[fi]) continue;
+        const int frag = p.fragment[fi];
+        mesh::Face face = p.mesh.faces[face_id(fi)];
+        for (auto& v : face.v) {
+            const auto key = std::make_pair(static_cast<std::uint32_t>(ix(v)), frag);
+            auto it = copy.find(key);
+            if (it == copy.end()) {
+                const auto id = static_cast<std::uint32_t>(t.mesh.positions.size());
+                t.mesh.positions.push_back(p.mesh.positions[v]);
+                if (p.mesh.periodic) t.mesh.domain.push_back(p.mesh.domain[v]);
+                t.source_vertex.push_back(key.first);
+                t.fragment.push_back(frag);
+                it = copy.emplace(key, id).first;
+            }
+            v = vertex_id(it->second);
+        }
+        t.mesh.faces.push_back(face);
+        t.source_face.push_back(static_cast<std::uint32_t>(fi));
+    }
+    t.mesh.rebuild_adjacency();
+    return t;
+}
+
+/// Distance along piece edges from every vertex to the nearest crack lip (∞ without lips).
+std::vector<double> distance_to_lips(const mesh::SurfaceMesh& m) {
+    const std::size_t nv = m.num_vertices();
+    std::vector<double> dist(nv, std::numeric_limits<double>::infinity());
+    std::vector<std::vector<std::pair<std::uint32_t, double>>> adj(nv);
+    using Item = std::pair<double, std::uint32_t>;
+    std::priority_queue<Item, std::vector<Item>, std::greater<>> queue;
+    for (std::size_t fi = 0; fi < m.num_faces(); ++fi) {
+        const FaceId f = face_id(fi);
+        const auto p = m.face_positions(f);
+        for (int k = 0; k < 3; ++k) {
+            const auto a = static_cast<std::uint32_t>(ix(m.faces[f].v[static_cast<std::size_t>(k)]));
+            const auto b = static_cast<std::uint32_t>(ix(m.faces[f].v[static_cast<std::size_t>((k + 1) % 3)]));
+            const double len = (p[static_cast<std::size_t>((k + 1) % 3)] - p[static_cast<std::size_t>(k)]).norm();
+            adj[a].emplace_back(b, len);
+            adj[b].emplace_back(a, len);
+            if (m.neighbor(f, k).face == mesh::NO_FACE) {
+                for (std::uint32_t v : {a, b})
+                    if (dist[v] > 0) {
+                        dist[v] = 0;
+                        queue.emplace(0.0, v);
+                    }
+            }
+        }
+    }
+    while (!queue.empty()) {
+        const auto [d, v] = queue.top();
+        queue.pop();
+        if (d > dist[v]) continue;
+        for (const auto& [w, len] : adj[v])
+            if (d + len < dist[w]) {
+                dist[w] = d + len;
+                queue.emplace(dist[w], w);
+            }
+    }
+    return dist;
+}
+
+/// Metres per unit of u and v at a point of the reference surface.
+Vec2 metric_at(const mesh::Surface& s, const Vec3& p0) {
+    if (s.periodic()) return s.period();
+    const double lat_cos = std::max(1e-3, std::sqrt(sqr(p0.x()) + sqr(p0.y())) / std::max(p0.norm(), 1e-300));
+    return Vec2(TWO_PI * s.radius() * lat_cos, PI * s.radius());
+}
+
+} // namespace
+
+PieceMesh build_pieces(const fracture::CrackPattern& p, const PostOptions& o) {
+    const mesh::Surface& surface = p.surface;
+    PieceMesh out;
+    out.kind = surface.kind();
+    out.periodic = surface.periodic();
+    out.tile_size = surface.periodic() ? surface.period() : Vec2(TWO_PI * surface.radius(), PI * surface.radius());
+    out.fragments = p.num_fragments;
+
+    // === 1. Pieces: one vertex copy per fragment
+    const PieceTopology topo = split_by_fragment(p);
+    const std::size_t nv = topo.mesh.num_vertices();
+    std::vector<double> thickness(nv);
+    for (std::size_t v = 0; v < nv; ++v)
+        thickness[v] = p.thickness[topo.source_vertex[v]];
+
+    // === 2. Relaxation under further drying: the wedge FEM on the pieces, bottom glued
+    std::vector<Vec3> w(nv, Vec3::Zero());
+    if ((o.shrink_top != 0.0 || o.shrink_bottom != 0.0) && topo.mesh.num_faces() > 0) {
+        std::vector<sim::ElementMaterial> materials(topo.mesh.num_faces());
+        for (std::size_t f = 0; f < materials.size(); ++f) {
+            materials[f].young_modulus = p.young_modulus[topo.source_face[f]];
+            materials[f].threshold_stress = 1.0;
+            materials[f].toughness = 1.0;
+        }
+        sim::LayerFields fields;
+        fields.poisson_ratio = p.poisson_ratio;
+        fields.vertex_thickness = &thickness;
+        fields.face_material = &materials;
+        sim::FemOptions fem;
+        fem.stiffness_refresh = 0.0; // the stiffness of the shrunk shapes
+        fem.tolerance = 1e-8;
+        sim::GrowthOptions no_growth;
+        no_growth.kind = sim::GrowthKind::None;
+        sim::FemModel model(topo.mesh, surface, sim::GrowthField(no_growth, surface.kind()),
+                            sim::ShrinkageOptions{o.shrink_top, o.shrink_bottom}, fields, fem);
+        std::vector<Vec3> rest(nv);
+        for (std::size_t v = 0; v < nv; ++v)
+            rest[v] = model.top_position(vertex_id(v));
+        model.set_time(1.0);
+        model.relax();
+        for (std::size_t v = 0; v < nv; ++v)
+            w[v] = model.top_position(vertex_id(v)) - rest[v];
+    }
+
+    // === 3. Curl: detached pieces lift their rims (Fig. 4.11 bottom)
+    const std::vector<double> lip_distance = distance_to_lips(topo.mesh);
+    std::vector<double> lift(nv, 0.0), bevel_drop(nv, 0.0);
+    for (std::size_t v = 0; v < nv; ++v) {
+        const double h = thickness[v], d = lip_distance[v];
+        if (o.curl > 0 && std::isfinite(d)) {
+            const double reach = o.curl_width * h;
+            lift[v] = o.curl * h * sqr(std::max(0.0, 1.0 - d / reach));
+        }
+        if (o.bevel > 0 && std::isfinite(d)) bevel_drop[v] = o.bevel * sqr(std::max(0.0, 1.0 - d / o.bevel));
+    }
+
+    // === 4. Top vertices in texture space and in the world
+    const Mat3& G = p.growth_map;
+    const Mat3 G_inv = G.inverse();
+    const Mat3 G_inv_t = G_inv.transpose();
+    struct Top {
+        Vec2 uv; // canonical (before corner offsets)
+        double height;
+        Vec3 world; // canonical copy
+        Vec3 bottom_world;
+        Vec2 bottom_uv;
+        double bottom_height;
+    };
+    std::vector<Top> tops(nv);
+    double max_height = 0;
+    for (std::size_t v = 0; v < nv; ++v) {
+        const std::uint32_t sv = topo.source_vertex[v];
+        const Vec3& P0 = p.mesh.positions[vertex_id(sv)];
+        const mesh::TangentFrame f0 = surface.frame(P0);
+        const Vec2 metric = metric_at(surface, P0);
+        const Vec3 bottom = G * P0;
+        const Vec3 n_final = (G_inv_t * f0.n).normalized();
+        // Simulation: the top node relative to its bottom node, in-plane part pulled back
+        // through the growth map into the reference tangent plane; the normal part is height.
+        const Vec3 d = p.deformed[sv] - bottom;
+        const double h_sim = d.dot(n_final);
+        const Vec3 d_ref = G_inv * (d - h_sim * n_final);
+        const double du = d_ref.dot(f0.e_u) + w[v].dot(f0.e_u);
+        const double dv = d_ref.dot(f0.e_v) + w[v].dot(f0.e_v);
+        Top& t = tops[v];
+        const Vec2 uv0 = surface.periodic() ? surface.uv_of_domain(topo.mesh.domain[vertex_id(v)]) : surface.uv(P0);
+        t.uv = uv0 + Vec2(du / metric.x(), dv / metric.y());
+        t.height = std::max(0.0, h_sim + w[v].dot(f0.n) + lift[v] - bevel_drop[v]);
+        t.world = bottom + G * (du * f0.e_u + dv * f0.e_v) + (t.height) * n_final;
+        t.bottom_world = bottom + lift[v] * n_final;
+        t.bottom_uv = uv0;
+        t.bottom_height = lift[v];
+        max_height = std::max(max_height, t.height);
+    }
+    out.max_height = max_height;
+
+    // === 5. Triangles: tops, walls at crack lips, floor under removed elements
+    auto corner_shift_uv = [&](const Vec2i& o_) { return Vec2(o_.x(), o_.y()); };
+    auto world_shift = [&](const Vec2i& o_) {
+        return G * (o_.x() * p.mesh.period_vectors[0] + o_.y() * p.mesh.period_vectors[1]);
+    };
+    // One output vertex per (piece vertex, offset) on the tops, so smooth normals stay per piece.
+    std::map<std::tuple<std::uint32_t, int, int>, std::uint32_t> top_index;
+    auto emit_top = [&](std::size_t v, const Vec2i& off) {
+        const auto key = std::make_tuple(static_cast<std::uint32_t>(v), off.x(), off.y());
+        const auto it = top_index.find(key);
+        if (it != top_index.end()) return it->second;
+        PieceVertex pv;
+        pv.uv = tops[v].uv + corner_shift_uv(off);
+        pv.height = tops[v].height;
+        pv.position = tops[v].world + world_shift(off);
+        pv.fragment = topo.fragment[v];
+        pv.crack = 0.0f;
+        const auto id = static_cast<std::uint32_t>(out.vertices.size());
+        out.vertices.push_back(pv);
+        top_index.emplace(key, id);
+        return id;
+    };
+    for (std::size_t fi = 0; fi < topo.mesh.num_faces(); ++fi) {
+        const mesh::Face& face = topo.mesh.faces[face_id(fi)];
+        std::array<std::uint32_t, 3> tri{};
+        for (std::size_t k = 0; k < 3; ++k)
+            tri[k] = emit_top(ix(face.v[k]), face.offset[k]);
+        out.triangles.push_back(tri);
+    }
+    out.top_triangles = out.triangles.size();
+
+    // Smooth normals over each piece's top (texture frame and world).
+    {
+        std::vector<Vec3> tex_n(out.vertices.size(), Vec3::Zero()), world_n(out.vertices.size(), Vec3::Zero());
+        for (const auto& tri : out.triangles) {
+            const PieceVertex &a = out.vertices[tri[0]], &b = out.vertices[tri[1]], &c = out.vertices[tri[2]];
+            const Vec2 m = metric_at(surface, p.surface.periodic() ? Vec3(Vec3::Zero())
+                                                                   : Vec3(a.position.normalized() * surface.radius()));
+            auto tex = [&](const PieceVertex& q) { return Vec3(q.uv.x() * m.x(), q.uv.y() * m.y(), q.height); };
+            const Vec3 nt = (tex(b) - tex(a)).cross(tex(c) - tex(a));
+            const Vec3 nw = (b.position - a.position).cross(c.position - a.position);
+            for (std::uint32_t i : tri) {
+                tex_n[i] += nt;
+                world_n[i] += nw;
+            }
+        }
+        for (std::size_t i = 0; i < out.vertices.size(); ++i) {
+            out.vertices[i].normal = tex_n[i].norm() > 0 ? Vec3(tex_n[i].normalized()) : Vec3::UnitZ();
+            out.vertices[i].world_normal = world_n[i].norm() > 0 ? Vec3(world_n[i].normalized()) : Vec3::UnitZ();
+        }
+    }
+
+    // Walls: each lip edge a → b drops to the bottom of the layer (or of the lifted rim).
+    auto add_quad = [&](const std::array<PieceVertex, 4>& q) {
+        // q: top a, top b, bottom b, bottom a. Flat normal, facing out of the piece.
+        PieceVertex a = q[0], b = q[1], c = q[2], d = q[3];
+        const Vec2 m = out.tile_size;
+        auto tex = [&](const PieceVertex& v) { return Vec3(v.uv.x() * m.x(), v.uv.y() * m.y(), v.height); };
+        Vec3 nt = (tex(b) - tex(a)).cross(tex(d) - tex(a));
+        Vec3 nw = (b.position - a.position).cross(d.position - a.position);
+        // Outward is to the right of a → b seen from above.
+        const Vec3 right_tex = (tex(b) - tex(a)).cross(Vec3::UnitZ());
+        if (nt.dot(right_tex) < 0) nt = -nt;
+        const Vec3 up_world = (a.position - d.position);
+        const Vec3 right_world = (b.position - a.position).cross(up_world);
+        if (nw.dot(right_world) < 0) nw = -nw;
+        nt = nt.norm() > 0 ? Vec3(nt.normalized()) : Vec3::UnitX();
+        nw = nw.norm() > 0 ? Vec3(nw.normalized()) : Vec3::UnitX();
+        const auto base = static_cast<std::uint32_t>(out.vertices.size());
+        for (PieceVertex* v : {&a, &b, &c, &d}) {
+            v->normal = nt;
+            v->world_normal = nw;
+            v->crack = 1.0f;
+            out.vertices.push_back(*v);
+        }
+        out.triangles.push_back({base, base + 1, base + 2});
+        out.triangles.push_back({base, base + 2, base + 3});
+    };
+    for (std::size_t fi = 0; fi < topo.mesh.num_faces(); ++fi) {
+        const FaceId f = face_id(fi);
+        const mesh::Face& face = topo.mesh.faces[f];
+        for (int k = 0; k < 3; ++k) {
+            if (topo.mesh.neighbor(f, k).face != mesh::NO_FACE) continue;
+            const auto ka = static_cast<std::size_t>(k), kb = static_cast<std::size_t>((k + 1) % 3);
+            const std::size_t va = ix(face.v[ka]), vb = ix(face.v[kb]);
+            std::array<PieceVertex, 4> q;
+            q[0] = out.vertices[emit_top(va, face.offset[ka])];
+            q[1] = out.vertices[emit_top(vb, face.offset[kb])];
+            for (int s = 0; s < 2; ++s) {
+                const std::size_t v = s == 0 ? vb : va;
+                const Vec2i& off = s == 0 ? face.offset[kb] : face.offset[ka];
+                PieceVertex bot;
+                bot.uv = tops[v].bottom_uv + corner_shift_uv(off);
+                bot.height = tops[v].bottom_height;
+                bot.position = tops[v].bottom_world + world_shift(off);
+                bot.fragment = topo.fragment[v];
+                q[static_cast<std::size_t>(2 + s)] = bot;
+            }
+            add_quad(q);
+            out.wall_triangles += 2;
+        }
+    }
+
+    // Floor: the background where elements were removed.
+    for (std::size_t fi = 0; fi < p.mesh.num_faces(); ++fi) {
+        if (!p.removed[fi]) continue;
+        const FaceId f = face_id(fi);
+        const auto base = static_cast<std::uint32_t>(out.vertices.size());
+        for (int k = 0; k < 3; ++k) {
+            const mesh::Face& face = p.mesh.faces[f];
+            const Vec3& P0 = p.mesh.positions[face.v[static_cast<std::size_t>(k)]];
+            PieceVertex fv;
+            const Vec2i& off = face.offset[static_cast<std::size_t>(k)];
+            fv.uv = (surface.periodic() ? surface.uv_of_domain(p.mesh.domain[face.v[static_cast<std::size_t>(k)]])
+                                        : surface.uv(P0))
+                    + corner_shift_uv(off);
+            fv.height = 0.0;
+            fv.position = G * P0 + world_shift(off);
+            fv.world_normal = (G_inv_t * surface.normal(P0)).normalized();
+            fv.normal = Vec3::UnitZ();
+            fv.fragment = -1;
+            fv.crack = 1.0f;
+            out.vertices.push_back(fv);
+        }
+        out.triangles.push_back({base, base + 1, base + 2});
+        ++out.floor_triangles;
+    }
+    log::debug("pieces: ", out.fragments, " fragments, ", out.top_triangles, " top, ", out.wall_triangles, " wall, ",
+               out.floor_triangles, " floor triangles");
+    return out;
+}
+
+} // namespace crackle::post

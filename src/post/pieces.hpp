@@ -1,0 +1,59 @@
+#pragma once
+/// @file Post-processing (Federl 2002, §4.5, Figs. 4.10–4.11; digest §2.5): every fragment of a
+/// crack pattern becomes a solid piece of the local layer thickness. Walls between pieces are
+/// glued at the bottom where cracked, so cracks open at the top; pieces relax under further
+/// drying (extra shrinkage, solved with the wedge FEM, top free, bottom glued); in curl mode
+/// cracked pieces detach and their rims lift.
+
+#include "core/math.hpp"
+#include "fracture/crack_pattern.hpp"
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+namespace crackle::post {
+
+/// The [post] preset section.
+struct PostOptions {
+    /// Rim lift of detached pieces at their cracked edges, in layer thicknesses (0 = glued).
+    double curl = 0.0;
+    /// How far in from the edge the curl reaches, in layer thicknesses.
+    double curl_width = 3.0;
+    /// Shrinkage after the pattern has formed, [top, bottom] (further drying or weathering):
+    /// the tops pull away from the cracks, which open into V-shaped grooves.
+    double shrink_top = 0.0, shrink_bottom = 0.0;
+    /// Radius of the rounding of crack lips (m); 0 = sharp.
+    double bevel = 0.0;
+};
+
+/// A vertex of the piece mesh, with what baking (texture space) and export (world) need.
+struct PieceVertex {
+    Vec2 uv = Vec2::Zero();       ///< texture coordinates; may leave [0, 1) on pieces across a periodic border
+    double height = 0;            ///< above the background (m)
+    Vec3 normal = Vec3::UnitZ();  ///< unit normal in the texture frame (x along u, y along v, z up)
+    Vec3 position = Vec3::Zero(); ///< world position at the final time (m)
+    Vec3 world_normal = Vec3::UnitZ();
+    int fragment = -1; ///< piece label; −1 on the crack floor
+    float crack = 0;   ///< 0 on top surfaces, 1 on walls and the crack floor
+};
+
+struct PieceMesh {
+    std::vector<PieceVertex> vertices;
+    std::vector<std::array<std::uint32_t, 3>> triangles;
+    mesh::SurfaceKind kind = mesh::SurfaceKind::Plane;
+    bool periodic = true;
+    /// Metres per unit of u and v in the reference tile (the sphere: at the equator).
+    Vec2 tile_size = Vec2::Ones();
+    double max_height = 0; ///< the tallest point (m): the displacement map's full scale
+    int fragments = 0;
+    std::size_t top_triangles = 0, wall_triangles = 0, floor_triangles = 0;
+};
+
+/// Builds the solid pieces of a crack pattern.
+PieceMesh build_pieces(const fracture::CrackPattern& pattern, const PostOptions& options);
+
+/// Reference texture coordinates of a surface point at t = 0 (u, v ∈ [0, 1)).
+Vec2 reference_uv(const mesh::Surface& surface, const Vec3& p0);
+
+} // namespace crackle::post

@@ -1,0 +1,7 @@
+#pragma once
+/// @file The GL entry points. libOSMesa exports every gl* function itself, so no loader is
+/// needed (and glvnd's libGL must not be linked: it would win symbol lookup).
+
+#define GL_GLEXT_PROTOTYPES 1
+#include <GL/glext.h>
+#include <GL/osmesa.h>
