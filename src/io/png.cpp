@@ -122,6 +122,23 @@ std::vector<std::uint8_t> encode_png_rgb8(int width, int height, int channels,
     return encode_raw(pixels.data(), width, height, channels, 8);
 }
 
+std::vector<std::uint8_t> decode_png_rgb8(const std::vector<std::uint8_t>& bytes, int& width, int& height) {
+    png_image img;
+    std::memset(&img, 0, sizeof img);
+    img.version = PNG_IMAGE_VERSION;
+    if (!png_image_begin_read_from_memory(&img, bytes.data(), bytes.size()))
+        throw InputError("", std::string("not a readable PNG: ") + img.message, "check the file");
+    img.format = PNG_FORMAT_RGB;
+    std::vector<std::uint8_t> out(PNG_IMAGE_SIZE(img));
+    if (!png_image_finish_read(&img, nullptr, out.data(), 0, nullptr)) {
+        png_image_free(&img);
+        throw InputError("", std::string("PNG decoding failed: ") + img.message, "check the file");
+    }
+    width = static_cast<int>(img.width);
+    height = static_cast<int>(img.height);
+    return out;
+}
+
 GrayImage decode_png_gray16(const std::vector<std::uint8_t>& bytes) {
     png_image img;
     std::memset(&img, 0, sizeof img);

@@ -20,6 +20,9 @@ std::vector<std::uint8_t> encode_png_gray(const GrayImage& image, int bits);
 /// Encodes interleaved 8-bit RGB or RGBA pixels (row 0 at the top).
 std::vector<std::uint8_t> encode_png_rgb8(int width, int height, int channels, const std::vector<std::uint8_t>& pixels);
 
+/// Decodes a PNG from memory into interleaved 8-bit RGB (for tests and golden images).
+std::vector<std::uint8_t> decode_png_rgb8(const std::vector<std::uint8_t>& bytes, int& width, int& height);
+
 /// Decodes a PNG from memory into 16-bit-precision grayscale in [0, 1] (for round-trip tests).
 GrayImage decode_png_gray16(const std::vector<std::uint8_t>& bytes);
 

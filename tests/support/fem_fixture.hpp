@@ -13,6 +13,7 @@ struct LayerSpec {
     Vec2 size = Vec2(0.2, 0.2);
     std::size_t elements = 300;
     double young = 1e9, poisson = 0.3, threshold = 1e5, toughness = 100, thickness = 0.01;
+    double thickness_end = -1; ///< < 0: uniform; else thickness runs linearly along v to this
     sim::GrowthOptions growth = {sim::GrowthKind::None, 0.0, 0.0, 0.0};
     sim::ShrinkageOptions shrinkage;
     sim::VariationOptions young_variation;
@@ -23,7 +24,8 @@ struct LayerSpec {
 struct Layer {
     explicit Layer(const LayerSpec& s)
         : spec(s), surface(make_surface(s.kind, s.size.x(), s.size.y())),
-          thickness(s.thickness, sim::VariationOptions{}, surface, s.seed, 1),
+          thickness(s.thickness, s.thickness_end < 0 ? s.thickness : s.thickness_end, sim::VariationOptions{}, surface,
+                    s.seed, 1),
           young(s.young, s.young_variation, surface, s.seed, 2),
           threshold(s.threshold, sim::VariationOptions{}, surface, s.seed, 3),
           toughness(s.toughness, sim::VariationOptions{}, surface, s.seed, 4) {

@@ -2,6 +2,7 @@
 #include "core/json.hpp"
 #include "io/png.hpp"
 #include "support/cli_runner.hpp"
+#include "support/gl_support.hpp"
 
 #include <doctest/doctest.h>
 
@@ -211,5 +212,71 @@ TEST_SUITE("app") {
         const std::string a = events("3", "a.csv"), b = events("3", "b.csv"), c = events("4", "c.csv");
         CHECK(a == b);
         CHECK(a != c);
+    }
+
+    TEST_CASE("cli: bake writes the ambientCG-named texture set and a report") {
+        if (!test::gl_context_or_skip()) return;
+        const auto dir = test::scratch_dir("cli-bake");
+        const auto r =
+            run_cli({"-q", "bake", "mud", "--size", "64", "--set", "simulation.elements=500", "--set", "bake.exr=true",
+                     "--out", (dir / "maps").string(), "--json", (dir / "r.json").string()});
+        REQUIRE_MESSAGE(r.code == 0, r.err);
+        for (const char* suffix : {"Color.png", "NormalGL.png", "NormalDX.png", "Displacement.png",
+                                   "AmbientOcclusion.png", "Roughness.png", "Mask.png", "ID.png", "Displacement.exr"})
+            CHECK_MESSAGE(fs::exists(dir / "maps" / (std::string("mud_") + suffix)), suffix);
+        const std::string report = test::slurp(dir / "r.json");
+        CHECK(contains(report, "\"displacement_scale_m\""));
+        CHECK(contains(report, "\"bake.render\""));
+        // No temporary files left behind.
+        for (const auto& e : fs::directory_iterator(dir / "maps"))
+            CHECK(e.path().string().find(".tmp") == std::string::npos);
+    }
+
+    TEST_CASE("cli: bake and export refuse bad output requests with exit code 2 and leave nothing behind") {
+        const auto dir = test::scratch_dir("cli-bake-bad");
+        CHECK(run_cli({"bake", "mud", "--size", "0"}).code == 2);
+        CHECK(run_cli({"bake", "mud", "--size", "20000"}).code == 2);
+        CHECK(run_cli({"bake", "mud", "--set", "bake.size=100000"}).code == 2);
+        CHECK(run_cli({"export", "mud", "--format", "fbx"}).code == 2);
+        if (!test::gl_context_or_skip()) return;
+        // A folder that cannot be created: everything is computed, nothing is written.
+        const auto r = run_cli({"-q", "bake", "mud", "--size", "32", "--set", "simulation.elements=300", "--out",
+                                "/proc/crackle-no-such-dir/maps"});
+        CHECK(r.code == 2);
+        CHECK(contains(r.err, "/proc/crackle-no-such-dir"));
+        CHECK_FALSE(fs::exists("/proc/crackle-no-such-dir"));
+    }
+
+    TEST_CASE("cli: export writes OBJ and glTF and GLB with their maps") {
+        if (!test::gl_context_or_skip()) return;
+        const auto dir = test::scratch_dir("cli-export");
+        for (const char* format : {"obj", "gltf", "glb"}) {
+            CAPTURE(format);
+            const fs::path file = dir / (std::string("tile.") + format);
+            const auto r = run_cli({"-q", "export", "mud", "--format", format, "--size", "32", "--set",
+                                    "simulation.elements=300", "--out", file.string()});
+            REQUIRE_MESSAGE(r.code == 0, r.err);
+            CHECK(fs::file_size(file) > 1000);
+            if (std::string(format) != "glb") CHECK(fs::exists(dir / "tile_ORM.png"));
+            if (std::string(format) == "obj") CHECK(fs::exists(dir / "tile.mtl"));
+        }
+    }
+
+    TEST_CASE("cli: every built-in preset bakes at tiny resolution") {
+        if (!test::gl_context_or_skip()) return;
+        const auto dir = test::scratch_dir("cli-every-preset");
+        const auto list = run_cli({"presets", "list"});
+        std::istringstream is(list.out);
+        std::string line;
+        int count = 0;
+        while (std::getline(is, line)) {
+            const std::string name = line.substr(0, line.find(' '));
+            CAPTURE(name);
+            const auto r = run_cli({"-q", "bake", name, "--size", "32", "--set", "simulation.elements=300", "--out",
+                                    (dir / std::to_string(count)).string()});
+            CHECK_MESSAGE(r.code == 0, r.err);
+            ++count;
+        }
+        CHECK(count >= 4);
     }
 }

@@ -1,0 +1,130 @@
+#include "fracture/fem_remove.hpp"
+#include "post/pieces.hpp"
+#include "support/fem_fixture.hpp"
+
+#include <doctest/doctest.h>
+
+#include <map>
+
+using namespace crackle;
+
+namespace {
+
+/// A cracked mud-like layer (element removal), shared by the tests below.
+fracture::CrackPattern make_cracked(double thickness) {
+    test::LayerSpec spec;
+    spec.size = Vec2(0.2, 0.2);
+    spec.elements = 700;
+    spec.thickness = thickness;
+    spec.shrinkage = {3e-4, 3e-4};
+    test::Layer layer(spec);
+    Rng rng(3, RngStream::Fracture);
+    return fracture::run_fem_remove(*layer.model, fracture::FractureOptions{}, rng);
+}
+
+const fracture::CrackPattern& cracked() {
+    static const fracture::CrackPattern pattern = make_cracked(0.01);
+    return pattern;
+}
+
+} // namespace
+
+TEST_SUITE("post") {
+    TEST_CASE("pieces: one solid per fragment with walls down to the background at every crack") {
+        const auto& p = cracked();
+        REQUIRE(p.num_fragments > 5);
+        const post::PieceMesh pieces = post::build_pieces(p, post::PostOptions{});
+        CHECK(pieces.fragments == p.num_fragments);
+        CHECK(pieces.top_triangles
+              == p.mesh.num_faces() - std::size_t(std::count(p.removed.begin(), p.removed.end(), 1)));
+        CHECK(pieces.wall_triangles == 2 * p.cracks.size());
+        CHECK(pieces.floor_triangles == std::size_t(std::count(p.removed.begin(), p.removed.end(), 1)));
+        // Glued: wall bottoms sit on the background; tops at the layer thickness.
+        for (const auto& v : pieces.vertices) {
+            if (v.crack > 0.5f && v.fragment >= 0) REQUIRE((v.height < 1e-9 || v.height > 0.009));
+            if (v.crack < 0.5f) REQUIRE(v.height == doctest::Approx(0.01).epsilon(1e-3));
+        }
+        for (const auto& tri : pieces.triangles)
+            for (std::uint32_t i : tri)
+                REQUIRE(i < pieces.vertices.size());
+    }
+
+    TEST_CASE("pieces: further drying opens the cracks at the top while the bottoms stay glued") {
+        const auto& p = cracked();
+        post::PostOptions o;
+        o.shrink_top = 0.1;
+        const post::PieceMesh dry = post::build_pieces(p, o);
+        const post::PieceMesh wet = post::build_pieces(p, post::PostOptions{});
+        // Each wall quad: top a, top b, bottom b, bottom a. The top lip moves into its piece, away
+        // from the bottom lip; the bottom lip does not move.
+        const std::size_t first_wall_dry = dry.top_triangles, first_wall_wet = wet.top_triangles;
+        double opening = 0;
+        for (std::size_t t = 0; t < dry.wall_triangles; t += 2) {
+            const auto& td = dry.triangles[first_wall_dry + t];
+            const auto& tw = wet.triangles[first_wall_wet + t];
+            const post::PieceVertex& top_a = dry.vertices[td[0]];
+            const post::PieceVertex& bottom_a = dry.vertices[td[0] + 3];
+            const post::PieceVertex& bottom_b = dry.vertices[td[2]];
+            const post::PieceVertex& bottom_b_wet = wet.vertices[tw[2]];
+            REQUIRE((bottom_b.uv - bottom_b_wet.uv).norm() < 1e-12);
+            REQUIRE(bottom_b.height == 0.0);
+            REQUIRE(bottom_a.height == 0.0);
+            opening += (top_a.uv - bottom_a.uv).norm();
+        }
+        CHECK(opening / (dry.wall_triangles / 2) * dry.tile_size.x() > 1e-4); // ≥ 0.1 mm on average
+    }
+
+    TEST_CASE("pieces: in curl mode the rims of cracked pieces end higher than their centres (Fig. 4.11)") {
+        // A thicker layer: fewer, larger plates with centres well away from their rims.
+        const fracture::CrackPattern p = make_cracked(0.025);
+        post::PostOptions o;
+        o.curl = 0.5;
+        o.curl_width = 1.0;
+        const post::PieceMesh curled = post::build_pieces(p, o);
+        // Per fragment big enough to have a centre: the highest top vertex (a rim) against the
+        // lowest (the centre, farthest from every lip).
+        std::map<int, std::pair<double, double>> range; // fragment → (min, max) top height
+        std::map<int, int> triangles;
+        for (std::size_t t = 0; t < curled.top_triangles; ++t) {
+            ++triangles[curled.vertices[curled.triangles[t][0]].fragment];
+            for (std::uint32_t i : curled.triangles[t]) {
+                const auto& v = curled.vertices[i];
+                auto [it, fresh] = range.emplace(v.fragment, std::make_pair(v.height, v.height));
+                it->second.first = std::min(it->second.first, v.height);
+                it->second.second = std::max(it->second.second, v.height);
+            }
+        }
+        int big = 0, lifted = 0;
+        for (const auto& [frag, mm] : range) {
+            if (triangles[frag] < 12) continue;
+            ++big;
+            lifted += mm.second > mm.first + 0.005;
+        }
+        REQUIRE(big > 3);
+        CHECK(lifted == big);
+        // Rim vertices (on walls' top edges) average higher than the plain layer.
+        double rim = 0;
+        int n = 0;
+        for (std::size_t t = curled.top_triangles; t < curled.top_triangles + curled.wall_triangles; t += 2) {
+            rim += curled.vertices[curled.triangles[t][0]].height;
+            ++n;
+        }
+        CHECK(rim / n > 0.025 + 0.01);
+    }
+
+    TEST_CASE("pieces: a bevel lowers the lips and leaves the interior") {
+        const auto& p = cracked();
+        post::PostOptions o;
+        o.bevel = 0.004;
+        const post::PieceMesh b = post::build_pieces(p, o);
+        double lowest = 1, highest = 0;
+        for (std::size_t t = 0; t < b.top_triangles; ++t)
+            for (std::uint32_t i : b.triangles[t]) {
+                lowest = std::min(lowest, b.vertices[i].height);
+                highest = std::max(highest, b.vertices[i].height);
+            }
+        // (The simulation's own shrinkage thinned the layer by 3e-4·½·2 of its height.)
+        CHECK(lowest == doctest::Approx(0.01 - 0.004).epsilon(2e-3));
+        CHECK(highest == doctest::Approx(0.01).epsilon(1e-3));
+    }
+}
