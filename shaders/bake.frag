@@ -12,6 +12,8 @@ uniform float u_roughness;
 uniform float u_roughness_variation;
 uniform float u_max_height;
 uniform uint u_seed;
+uniform vec2 u_grain_cells;     // tiling noise cells across the tile (u, v)
+uniform float u_grain;          // strength of the surface grain, 0..1
 
 layout(location = 0) out vec4 o_height;    // r: height (m)
 layout(location = 1) out vec4 o_normal;    // xyz: (n + 1) / 2 in the texture frame
@@ -30,11 +32,11 @@ void main()
     float r2 = v_fragment >= 0 ? crackle_random(v_fragment, 2u, u_seed) : 0.5;
     vec3 tint = vec3(1.0) + u_color_variation * vec3(r1 - 0.5, r2 - 0.5, 0.5 - r1) * 0.6;
     float brightness = 1.0 + u_color_variation * (r0 - 0.5);
-    float grain = mix(0.85, 1.15, crackle_tiling_noise(v_uv, u_seed));
+    float grain = 1.0 + u_grain * (2.0 * crackle_fbm(v_uv, ivec2(u_grain_cells + 0.5), u_seed) - 1.0);
     vec3 top = u_color * tint * brightness * grain;
     // Crack interiors darken with depth below the surface.
     float depth_shade = clamp(v_height / max(u_max_height, 1e-9), 0.0, 1.0);
-    vec3 crack = u_crack_color * mix(0.6, 1.0, depth_shade);
+    vec3 crack = u_crack_color * mix(0.6, 1.0, depth_shade) * (1.0 + 0.5 * u_grain * (crackle_fbm(v_uv, ivec2(u_grain_cells + 0.5) * 2, u_seed + 7u) - 0.5));
     o_color = vec4(mix(top, crack, v_crack), 1.0);
 
     float rough = u_roughness + u_roughness_variation * (r0 - 0.5) + 0.15 * v_crack;

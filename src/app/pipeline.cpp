@@ -69,6 +69,9 @@ render::BakeOptions bake_options(const io::Preset& preset) {
     o.color = linear_from_srgb(preset.numbers("bake.color"));
     o.crack_color = linear_from_srgb(preset.numbers("bake.crack_color"));
     o.color_variation = preset.number("bake.color_variation");
+    o.grain = preset.number("bake.grain");
+    o.grain_size = preset.number("bake.grain_size");
+    o.grain_stretch = preset.number("bake.grain_stretch");
     o.roughness = preset.number("bake.roughness");
     o.roughness_variation = preset.number("bake.roughness_variation");
     o.ao_radius = preset.number("bake.ao_radius");

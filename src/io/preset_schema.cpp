@@ -193,6 +193,11 @@ std::vector<KeySpec> build_schema() {
     s.push_back(array("bake", "crack_color", {0.12, 0.1, 0.08}, 3, 3, "sRGB", 0.0, 1.0,
                       "Albedo of crack walls and floors, sRGB [r, g, b] in 0..1; darker with depth."));
     s.push_back(number("bake", "color_variation", 0.3, "", 0.0, 1.0, "How much each piece's brightness and hue vary."));
+    s.push_back(number("bake", "grain", 0.15, "", 0.0, 1.0,
+                       "Strength of a tiling fine-grain variation in the albedo (0 = flat colour per piece)."));
+    s.push_back(number("bake", "grain_size", 0.02, "m", 1e-4, 10.0, "Feature size of the grain across u."));
+    s.push_back(number("bake", "grain_stretch", 1.0, "", 0.1, 50.0,
+                       "How many times longer grain features are along v than along u (bark fibres: 4–8)."));
     s.push_back(
         number("bake", "roughness", 0.85, "", 0.0, 1.0, "Roughness of the top surface (cracks a little rougher)."));
     s.push_back(number("bake", "roughness_variation", 0.1, "", 0.0, 1.0, "Per-piece roughness variation."));

@@ -225,6 +225,9 @@ TextureSet bake(const post::PieceMesh& pieces, const BakeOptions& o, GlContext& 
     glViewport(0, 0, tile, tile);
 
     const Vec3 crack_linear = o.crack_color;
+    // Whole numbers of grain cells per tile, so the grain tiles with the maps.
+    const Vec2 grain_cells(std::max(1.0, std::round(pieces.tile_size.x() / o.grain_size)),
+                           std::max(1.0, std::round(pieces.tile_size.y() / (o.grain_size * o.grain_stretch))));
     const float clear_height[4] = {0, 0, 0, 1};
     const float clear_normal[4] = {0.5f, 0.5f, 1.0f, 1};
     const float clear_color[4] = {static_cast<float>(crack_linear.x()), static_cast<float>(crack_linear.y()),
@@ -262,6 +265,8 @@ TextureSet bake(const post::PieceMesh& pieces, const BakeOptions& o, GlContext& 
             bake_program.set("u_roughness", static_cast<float>(o.roughness));
             bake_program.set("u_roughness_variation", static_cast<float>(o.roughness_variation));
             bake_program.set("u_seed", static_cast<unsigned>(o.seed));
+            bake_program.set("u_grain", static_cast<float>(o.grain));
+            bake_program.set("u_grain_cells", grain_cells);
             glDrawArraysInstanced(GL_TRIANGLES, 0, static_cast<GLsizei>(vertices.size()), copies);
             const Target& source = resolved ? *resolved : msaa;
             if (resolved) {

@@ -23,6 +23,9 @@ struct BakeOptions {
     Vec3 color = Vec3(0.30, 0.22, 0.15);        ///< top surface albedo, linear RGB
     Vec3 crack_color = Vec3(0.03, 0.025, 0.02); ///< crack walls and floor, linear RGB
     double color_variation = 0.3;               ///< per-piece variation, 0..1
+    double grain = 0.15;                        ///< strength of the tiling surface grain in the albedo, 0..1
+    double grain_size = 0.02;                   ///< feature size of the grain along u (m)
+    double grain_stretch = 1.0;                 ///< how much longer grain features are along v (bark fibres)
     double roughness = 0.85;
     double roughness_variation = 0.1;
     double ao_radius = 0.0; ///< m; 0 = twice the layer's full height
