@@ -1,6 +1,10 @@
 #include "app/bench.hpp"
 
+#include "app/pipeline.hpp"
 #include "app/scene.hpp"
+#include "io/texture_set.hpp"
+#include "post/pieces.hpp"
+#include "render/bake.hpp"
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
 #include "core/json.hpp"
@@ -135,10 +139,52 @@ Json bench_fem_remove(const std::vector<std::size_t>& sizes, std::ostream& out) 
     return rows;
 }
 
+/// The mud preset's pieces baked at several sizes: render, readback, occlusion and encoding.
+Json bench_bake(const std::vector<int>& sizes, std::ostream& out) {
+    io::PresetRequest r;
+    r.name_or_path = "mud";
+    const io::Preset preset = io::load_preset(r);
+    StepTimes ignored;
+    const SimulationResult sim = run_simulation(preset, ignored);
+    const post::PieceMesh pieces = post::build_pieces(sim.pattern, post_options(preset));
+    render::GlContext context;
+    out << "\n### Bake: the mud preset's pieces, all maps (" << context.description() << ")\n\n"
+        << "| size | render | readback | ambient occlusion | bake total | PNG encoding (8 maps) | total | files |\n"
+        << "|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+    Json rows = Json::array();
+    for (int size : sizes) {
+        render::BakeOptions o = bake_options(preset);
+        o.size = size;
+        Timer t;
+        const render::TextureSet set = render::bake(pieces, o, context);
+        const double bake_seconds = t.seconds();
+        double encode = 0;
+        const auto maps = io::encode_texture_set(set, false, &encode);
+        std::size_t bytes = 0;
+        for (const auto& m : maps) bytes += m.bytes.size();
+        Json row = Json::object();
+        row["size"] = size;
+        row["render_seconds"] = set.render_seconds;
+        row["readback_seconds"] = set.readback_seconds;
+        row["ao_seconds"] = set.ao_seconds;
+        row["bake_seconds"] = bake_seconds;
+        row["encode_seconds"] = encode;
+        row["total_seconds"] = bake_seconds + encode;
+        row["megabytes"] = double(bytes) / 1e6;
+        out << "| " << size << "² | " << fmt("%.2f s", set.render_seconds) << " | " << fmt("%.2f s", set.readback_seconds)
+            << " | " << fmt("%.2f s", set.ao_seconds) << " | " << fmt("%.2f s", bake_seconds) << " | "
+            << fmt("%.2f s", encode) << " | " << fmt("%.2f s", bake_seconds + encode) << " | "
+            << fmt("%.1f MB", double(bytes) / 1e6) << " |\n";
+        out.flush();
+        rows.push_back(row);
+    }
+    return rows;
+}
+
 } // namespace
 
 const std::vector<std::string>& bench_scenes() {
-    static const std::vector<std::string> scenes = {"solve", "fem-remove"};
+    static const std::vector<std::string> scenes = {"solve", "fem-remove", "bake"};
     return scenes;
 }
 
@@ -147,7 +193,7 @@ int bench_command(const BenchArgs& args, std::ostream& out) {
     for (const auto& s : scenes)
         if (std::find(bench_scenes().begin(), bench_scenes().end(), s) == bench_scenes().end())
             throw InputError("bench", "unknown scene '" + s + "'" + did_you_mean(s, bench_scenes()),
-                             "scenes are: solve, fem-remove");
+                             "scenes are: solve, fem-remove, bake");
     Json report = Json::object();
     report["quick"] = args.quick;
     out << "# crackle bench" << (args.quick ? " (quick)" : "") << "\n";
@@ -159,6 +205,9 @@ int bench_command(const BenchArgs& args, std::ostream& out) {
         if (s == "fem-remove")
             report["fem_remove"] = bench_fem_remove(
                 args.quick ? std::vector<std::size_t>{2000} : std::vector<std::size_t>{5000, 20000}, out);
+        if (s == "bake")
+            report["bake"] =
+                bench_bake(args.quick ? std::vector<int>{256, 1024} : std::vector<int>{1024, 2048, 4096}, out);
     }
     report["peak_memory_mb"] = peak_memory_mb();
     if (!args.out_dir.empty()) write_file_atomically(std::filesystem::path(args.out_dir) / "bench.json", report.dump());

@@ -15,7 +15,7 @@ struct BenchArgs {
 };
 
 /// Runs the scenes and prints Markdown tables. Scenes: "solve" (equilibrium, CG vs direct),
-/// "fem-remove" (mud runs to completion).
+/// "fem-remove" (mud runs to completion), "bake" (texture sets at several sizes).
 int bench_command(const BenchArgs& args, std::ostream& out);
 
 /// The scene names `bench` knows.
