@@ -36,11 +36,6 @@ const io::EncodedMap& find_map(const std::vector<io::EncodedMap>& maps, const st
     return maps.front();
 }
 
-/// Decoded normal at a pixel of an encoded normal map (GL convention).
-Vec3 decode_normal(const std::vector<std::uint8_t>& rgb, std::size_t i) {
-    return Vec3(rgb[3 * i] / 255.0 * 2 - 1, rgb[3 * i + 1] / 255.0 * 2 - 1, rgb[3 * i + 2] / 255.0 * 2 - 1);
-}
-
 } // namespace
 
 TEST_SUITE("render") {
