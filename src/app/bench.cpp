@@ -2,15 +2,15 @@
 
 #include "app/pipeline.hpp"
 #include "app/scene.hpp"
-#include "io/texture_set.hpp"
-#include "post/pieces.hpp"
-#include "render/bake.hpp"
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
 #include "core/json.hpp"
 #include "core/strings.hpp"
 #include "core/timer.hpp"
 #include "fracture/statistics.hpp"
+#include "io/texture_set.hpp"
+#include "post/pieces.hpp"
+#include "render/bake.hpp"
 
 #include <cstdio>
 #include <fstream>
@@ -161,7 +161,8 @@ Json bench_bake(const std::vector<int>& sizes, std::ostream& out) {
         double encode = 0;
         const auto maps = io::encode_texture_set(set, false, &encode);
         std::size_t bytes = 0;
-        for (const auto& m : maps) bytes += m.bytes.size();
+        for (const auto& m : maps)
+            bytes += m.bytes.size();
         Json row = Json::object();
         row["size"] = size;
         row["render_seconds"] = set.render_seconds;
@@ -171,10 +172,10 @@ Json bench_bake(const std::vector<int>& sizes, std::ostream& out) {
         row["encode_seconds"] = encode;
         row["total_seconds"] = bake_seconds + encode;
         row["megabytes"] = double(bytes) / 1e6;
-        out << "| " << size << "² | " << fmt("%.2f s", set.render_seconds) << " | " << fmt("%.2f s", set.readback_seconds)
-            << " | " << fmt("%.2f s", set.ao_seconds) << " | " << fmt("%.2f s", bake_seconds) << " | "
-            << fmt("%.2f s", encode) << " | " << fmt("%.2f s", bake_seconds + encode) << " | "
-            << fmt("%.1f MB", double(bytes) / 1e6) << " |\n";
+        out << "| " << size << "² | " << fmt("%.2f s", set.render_seconds) << " | "
+            << fmt("%.2f s", set.readback_seconds) << " | " << fmt("%.2f s", set.ao_seconds) << " | "
+            << fmt("%.2f s", bake_seconds) << " | " << fmt("%.2f s", encode) << " | "
+            << fmt("%.2f s", bake_seconds + encode) << " | " << fmt("%.1f MB", double(bytes) / 1e6) << " |\n";
         out.flush();
         rows.push_back(row);
     }
