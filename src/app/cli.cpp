@@ -83,6 +83,8 @@ int run(int argc, const char* const* argv, std::ostream& out, std::ostream& err)
     bake->add_option("--out", bake_args.out_dir, "Output folder (default: out)");
     bake->add_option("--json", bake_args.json_path, "Write the report as JSON");
     bake->add_flag("--preview", bake_args.preview, "Quick look: 512 px, 2 samples");
+    bake->add_option("--shader-dir", bake_args.shader_dir,
+                     "Read the GLSL shaders from this folder (while editing them)");
     add_preset_options(bake, bake_args.preset);
 
     // === export
@@ -98,6 +100,7 @@ int run(int argc, const char* const* argv, std::ostream& out, std::ostream& err)
     exp->add_option("--size", export_args.size, "Map size in pixels (overrides bake.size)")
         ->check(CLI::Range(16, 16384));
     exp->add_option("--json", export_args.json_path, "Write the report as JSON");
+    exp->add_option("--shader-dir", export_args.shader_dir, "Read the GLSL shaders from this folder");
     add_preset_options(exp, export_args.preset);
 
     // === bench

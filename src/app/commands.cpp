@@ -3,6 +3,7 @@
 #include "app/pipeline.hpp"
 #include "app/scene.hpp"
 #include "core/atomic_file.hpp"
+#include "core/error.hpp"
 #include "core/json.hpp"
 #include "core/log.hpp"
 #include "core/timer.hpp"
@@ -225,7 +226,12 @@ struct Baked {
     render::TextureSet maps;
 };
 
-Baked bake_pipeline(const io::Preset& preset, StepTimes& times) {
+Baked bake_pipeline(const io::Preset& preset, StepTimes& times, const std::string& shader_dir) {
+    if (!shader_dir.empty())
+        for (const char* name : {"common.glsl", "bake.vert", "bake.frag", "id.frag", "fullscreen.vert", "ao.frag"})
+            if (!std::filesystem::is_regular_file(std::filesystem::path(shader_dir) / name))
+                throw InputError("--shader-dir " + shader_dir, std::string("no ") + name + " there",
+                                 "point it at a copy of the shaders/ folder");
     Baked b;
     b.sim = run_simulation(preset, times);
     Timer step;
@@ -235,7 +241,9 @@ Baked bake_pipeline(const io::Preset& preset, StepTimes& times) {
     render::GlContext context;
     times.emplace_back("gl_context", step.seconds());
     step.reset();
-    b.maps = render::bake(b.pieces, bake_options(preset), context);
+    render::BakeOptions options = bake_options(preset);
+    options.shader_dir = shader_dir;
+    b.maps = render::bake(b.pieces, options, context);
     times.emplace_back("bake", step.seconds());
     times.emplace_back("bake.render", b.maps.render_seconds);
     times.emplace_back("bake.readback", b.maps.readback_seconds);
@@ -291,7 +299,7 @@ int bake_command(const BakeArgs& args, const GlobalOptions& global, std::ostream
     const std::string name = output_name(preset);
     const std::filesystem::path dir =
         args.out_dir.empty() ? std::filesystem::path("out") : std::filesystem::path(args.out_dir);
-    const Baked b = bake_pipeline(preset, times);
+    const Baked b = bake_pipeline(preset, times, args.shader_dir);
 
     double encode = 0;
     const std::vector<io::EncodedMap> maps = io::encode_texture_set(b.maps, preset.flag("bake.exr"), &encode);
@@ -333,7 +341,7 @@ int export_command(const ExportArgs& args, const GlobalOptions& global, std::ost
                                                              : std::filesystem::path(args.out_path);
     const std::filesystem::path dir = file.parent_path();
     const std::string base = file.stem().string();
-    const Baked b = bake_pipeline(preset, times);
+    const Baked b = bake_pipeline(preset, times, args.shader_dir);
 
     Timer step;
     const io::ExportMesh mesh = io::export_mesh(b.pieces);

@@ -40,9 +40,10 @@ int simulate_command(const SimulateArgs& args, const GlobalOptions& global, std:
 
 struct BakeArgs {
     io::PresetRequest preset;
-    int size = 0;         ///< --size (0 = bake.size)
-    bool preview = false; ///< --preview: 512 px, 2 samples
-    std::string out_dir;  ///< "" = out/
+    int size = 0;           ///< --size (0 = bake.size)
+    bool preview = false;   ///< --preview: 512 px, 2 samples
+    std::string shader_dir; ///< read GLSL from here instead of the embedded copies
+    std::string out_dir;    ///< "" = out/
     std::string json_path;
 };
 
@@ -55,6 +56,7 @@ struct ExportArgs {
     std::string out_path;       ///< "" = out/<name>.<format>
     int size = 0;               ///< map size (0 = bake.size)
     std::string json_path;
+    std::string shader_dir;
 };
 
 /// `crackle export`: the piece mesh as OBJ or glTF with its PBR maps.

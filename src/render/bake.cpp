@@ -169,8 +169,9 @@ TextureSet bake(const post::PieceMesh& pieces, const BakeOptions& o, GlContext& 
         offset += static_cast<std::size_t>(widths[i]) * sizeof(float);
     }
     const GlProgram bake_program("bake", shader_source("bake.vert", o.shader_dir),
-                                 shader_source("bake.frag", o.shader_dir));
-    const GlProgram id_program("id", shader_source("bake.vert", o.shader_dir), shader_source("id.frag", o.shader_dir));
+                                 shader_source("bake.frag", o.shader_dir), o.shader_dir);
+    const GlProgram id_program("id", shader_source("bake.vert", o.shader_dir), shader_source("id.frag", o.shader_dir),
+                               o.shader_dir);
 
     // Periodic copies: all 9 neighbours on a torus; across the date line on the sphere.
     std::vector<float> offsets;
@@ -364,7 +365,7 @@ TextureSet bake(const post::PieceMesh& pieces, const BakeOptions& o, GlContext& 
         glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_REPEAT);
         glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, pieces.periodic ? GL_REPEAT : GL_CLAMP_TO_EDGE);
         const GlProgram ao_program("ao", shader_source("fullscreen.vert", o.shader_dir),
-                                   shader_source("ao.frag", o.shader_dir));
+                                   shader_source("ao.frag", o.shader_dir), o.shader_dir);
         const int ao_size = o.size > 1024 ? o.size / 2 : o.size;
         const int ao_tile = std::min(tile, ao_size);
         Target ao_target({GL_R32F}, ao_tile, 1, false);

@@ -28,8 +28,8 @@ std::string numbered(std::string_view source) {
 }
 
 namespace {
-unsigned compile(const std::string& program, GLenum type, const std::string& body) {
-    const std::string source = "#version 330 core\n" + shader_source("common.glsl") + "\n#line 1\n" + body;
+unsigned compile(const std::string& program, GLenum type, const std::string& body, const std::string& shader_dir) {
+    const std::string source = "#version 330 core\n" + shader_source("common.glsl", shader_dir) + "\n#line 1\n" + body;
     const GLuint shader = glCreateShader(type);
     const char* text = source.c_str();
     glShaderSource(shader, 1, &text, nullptr);
@@ -50,9 +50,11 @@ unsigned compile(const std::string& program, GLenum type, const std::string& bod
 }
 } // namespace
 
-GlProgram::GlProgram(const std::string& name, const std::string& vertex, const std::string& fragment) : m_name(name) {
-    const unsigned vs = compile(name, GL_VERTEX_SHADER, vertex);
-    const unsigned fs = compile(name, GL_FRAGMENT_SHADER, fragment);
+GlProgram::GlProgram(const std::string& name, const std::string& vertex, const std::string& fragment,
+                     const std::string& shader_dir)
+    : m_name(name) {
+    const unsigned vs = compile(name, GL_VERTEX_SHADER, vertex, shader_dir);
+    const unsigned fs = compile(name, GL_FRAGMENT_SHADER, fragment, shader_dir);
     m_program = glCreateProgram();
     glAttachShader(m_program, vs);
     glAttachShader(m_program, fs);

@@ -17,7 +17,8 @@ class GlProgram {
 public:
     /// Compiles `vertex` and `fragment` (without #version; common.glsl is prepended) and links.
     /// Throws NumericError with the info log and the numbered source on failure.
-    GlProgram(const std::string& name, const std::string& vertex, const std::string& fragment);
+    GlProgram(const std::string& name, const std::string& vertex, const std::string& fragment,
+              const std::string& shader_dir = "");
     ~GlProgram();
     GlProgram(const GlProgram&) = delete;
     GlProgram& operator=(const GlProgram&) = delete;
