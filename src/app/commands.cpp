@@ -19,6 +19,7 @@
 
 #include <cstdio>
 #include <iomanip>
+#include <map>
 
 namespace crackle::app {
 
@@ -193,6 +194,20 @@ Json simulation_report(const io::Preset& preset, const SimulationResult& r, cons
     report["junctions"] = st.junctions;
     report["axial_fraction"] = st.axial_fraction;
     report["total_area"] = st.total_area;
+    if (r.pattern.method == "mass-spring") {
+        report["newton_iterations"] = r.newton_iterations;
+        report["anchor_slides"] = r.anchor_slides;
+        report["factorizations"] = r.factorizations;
+        report["breaks"] = r.run.removals;
+        // Crack-depth histogram in layers (multi-layer model, §4.3).
+        Json depths = Json::object();
+        std::map<long, long> hist;
+        for (int layers : r.crack_depth_layers)
+            ++hist[layers];
+        for (const auto& [layers, count] : hist)
+            depths[std::to_string(layers)] = count;
+        report["crack_depth_histogram"] = depths;
+    }
     return report;
 }
 
@@ -205,8 +220,13 @@ void print_times(std::ostream& out, const StepTimes& times) {
 
 void print_simulation(std::ostream& out, const io::Preset& preset, const SimulationResult& r) {
     const auto& st = r.statistics;
-    out << "  elements     " << r.elements_initial << " initial, " << r.elements_final << " intact at the end ("
-        << r.run.removals << " removed, " << r.run.subdivisions << " subdivisions)\n";
+    if (r.pattern.method == "mass-spring")
+        out << "  springs      " << r.elements_initial << " material springs on " << r.nodes << " masses, "
+            << r.run.removals << " broken; " << r.newton_iterations << " Newton iterations, " << r.factorizations
+            << " factorizations\n";
+    else
+        out << "  elements     " << r.elements_initial << " initial, " << r.elements_final << " intact at the end ("
+            << r.run.removals << " removed, " << r.run.subdivisions << " subdivisions)\n";
     out << "  time         " << fmt("%.4g", r.pattern.final_time) << " of "
         << fmt("%.4g", preset.number("simulation.duration"))
         << (r.pattern.events_capped ? " (stopped at simulation.max_events)" : "") << "; " << r.run.time_steps

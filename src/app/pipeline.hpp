@@ -19,6 +19,8 @@ struct SimulationResult {
     fracture::PatternStatistics statistics;
     fracture::RunStats run;
     std::size_t elements_initial = 0, elements_final = 0, nodes = 0;
+    std::vector<int> crack_depth_layers; ///< mass-spring: broken layers under each open crack edge
+    std::size_t newton_iterations = 0, anchor_slides = 0, factorizations = 0;
 };
 
 /// Discretizes, builds the FEM layer and runs the preset's fracture method; appends wall

@@ -34,4 +34,20 @@ void label_fragments(CrackPattern& p) {
     }
 }
 
+std::vector<CrackEdge> removal_crack_lips(const CrackPattern& p) {
+    std::vector<CrackEdge> lips;
+    for (std::size_t fi = 0; fi < p.mesh.num_faces(); ++fi) {
+        if (p.removed[fi]) continue;
+        for (int k = 0; k < 3; ++k) {
+            const mesh::FaceNeighbor nb = p.mesh.neighbor(mesh::face_id(fi), k);
+            if (nb.face != mesh::NO_FACE && !p.removed[mesh::ix(nb.face)]) continue;
+            CrackEdge c;
+            c.face = mesh::face_id(fi);
+            c.edge = k;
+            lips.push_back(c);
+        }
+    }
+    return lips;
+}
+
 } // namespace crackle::fracture

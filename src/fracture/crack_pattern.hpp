@@ -13,7 +13,8 @@
 namespace crackle::fracture {
 
 /// One side of a crack: an edge of an intact face whose other side is cracked (a removed
-/// element, or the other lip of a split).
+/// element, the other lip of a split, or the other Voronoi cell of a broken spring). The mesh is open along every crack
+/// edge.
 struct CrackEdge {
     mesh::FaceId face = mesh::NO_FACE; ///< the intact face the edge belongs to
     int edge = -1;                     ///< edge index in that face
@@ -54,6 +55,10 @@ struct CrackPattern {
     /// Deformed 3D position of a face corner (periodic shift applied).
     Vec3 deformed_corner(mesh::FaceId f, int k) const;
 };
+
+/// The lips of an element-removal pattern: every edge of an intact face that faces a removed
+/// face (or the mesh boundary), with face and edge set and opening and depth left zero.
+std::vector<CrackEdge> removal_crack_lips(const CrackPattern& p);
 
 /// Labels connected components of intact faces (linked across edges whose neighbour is
 /// intact); fills `fragment` and `num_fragments`. Deterministic: labels follow face order.

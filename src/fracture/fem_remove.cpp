@@ -204,25 +204,19 @@ CrackPattern pattern_from_model(const sim::FemModel& model, const std::string& m
     label_fragments(p);
     // Crack lips: intact edges facing a removed element; the opening is the removed
     // element's deformed height over that edge, its depth the layer thickness.
-    for (std::size_t fi = 0; fi < nf; ++fi) {
-        if (p.removed[fi]) continue;
-        for (int k = 0; k < 3; ++k) {
-            const mesh::FaceNeighbor nb = p.mesh.neighbor(face_id(fi), k);
-            if (nb.face != mesh::NO_FACE && !p.removed[ix(nb.face)]) continue;
-            CrackEdge c;
-            c.face = face_id(fi);
-            c.edge = k;
-            const Vec3 a = p.deformed_corner(c.face, k), b = p.deformed_corner(c.face, (k + 1) % 3);
-            if (nb.face != mesh::NO_FACE) {
-                const Vec3 far = p.deformed_corner(nb.face, (nb.edge + 2) % 3);
-                c.opening = (far - a).cross(b - a).norm() / std::max((b - a).norm(), 1e-300);
-            }
-            const auto& face = p.mesh.faces[c.face];
-            c.depth = 0.5
-                      * (p.thickness[ix(face.v[static_cast<std::size_t>(k)])]
-                         + p.thickness[ix(face.v[static_cast<std::size_t>((k + 1) % 3)])]);
-            p.cracks.push_back(c);
+    for (CrackEdge c : removal_crack_lips(p)) {
+        const int k = c.edge;
+        const mesh::FaceNeighbor nb = p.mesh.neighbor(c.face, k);
+        const Vec3 a = p.deformed_corner(c.face, k), b = p.deformed_corner(c.face, (k + 1) % 3);
+        if (nb.face != mesh::NO_FACE) {
+            const Vec3 far = p.deformed_corner(nb.face, (nb.edge + 2) % 3);
+            c.opening = (far - a).cross(b - a).norm() / std::max((b - a).norm(), 1e-300);
         }
+        const auto& face = p.mesh.faces[c.face];
+        c.depth = 0.5
+                  * (p.thickness[ix(face.v[static_cast<std::size_t>(k)])]
+                     + p.thickness[ix(face.v[static_cast<std::size_t>((k + 1) % 3)])]);
+        p.cracks.push_back(c);
     }
     return p;
 }

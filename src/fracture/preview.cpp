@@ -45,6 +45,45 @@ void fill_triangle(RgbImage& img, const std::array<Vec2, 3>& uv, const std::arra
         }
 }
 
+void draw_line(RgbImage& img, const Vec2& a_uv, const Vec2& b_uv, const std::array<std::uint8_t, 3>& colour) {
+    const Vec2 a(a_uv.x() * img.width, (1.0 - a_uv.y()) * img.height);
+    const Vec2 b(b_uv.x() * img.width, (1.0 - b_uv.y()) * img.height);
+    const int steps = std::max(1, static_cast<int>(std::ceil(2.0 * (b - a).lpNorm<Eigen::Infinity>())));
+    for (int i = 0; i <= steps; ++i) {
+        const Vec2 q = a + (b - a) * (static_cast<double>(i) / steps);
+        const int x = static_cast<int>(std::floor(q.x())), y = static_cast<int>(std::floor(q.y()));
+        if (x < 0 || y < 0 || x >= img.width || y >= img.height) continue;
+        std::uint8_t* px = &img.pixels[3
+                                       * (static_cast<std::size_t>(y) * static_cast<std::size_t>(img.width)
+                                          + static_cast<std::size_t>(x))];
+        px[0] = colour[0];
+        px[1] = colour[1];
+        px[2] = colour[2];
+    }
+}
+
+/// Texture coordinates of a face's corners, unwrapped so the triangle is contiguous.
+std::array<Vec2, 3> face_uv(const CrackPattern& p, mesh::FaceId f) {
+    std::array<Vec2, 3> uv;
+    if (p.surface.periodic()) {
+        for (int k = 0; k < 3; ++k) {
+            const Vec2 d = p.mesh.corner_domain(f, k);
+            uv[static_cast<std::size_t>(k)] = Vec2(d.x() / p.mesh.period.x(), d.y() / p.mesh.period.y());
+        }
+    } else {
+        for (int k = 0; k < 3; ++k)
+            uv[static_cast<std::size_t>(k)] = p.surface.uv(p.mesh.corner_position(f, k));
+        for (std::size_t k = 1; k < 3; ++k) { // unwrap across the date line
+            if (uv[k].x() - uv[0].x() > 0.5) uv[k].x() -= 1.0;
+            if (uv[k].x() - uv[0].x() < -0.5) uv[k].x() += 1.0;
+        }
+    }
+    const Vec2 base(std::floor(uv[0].x()), std::floor(uv[0].y()));
+    for (auto& q : uv)
+        q -= base;
+    return uv;
+}
+
 } // namespace
 
 RgbImage preview_image(const CrackPattern& p, int size) {
@@ -53,25 +92,9 @@ RgbImage preview_image(const CrackPattern& p, int size) {
     img.pixels.assign(3 * static_cast<std::size_t>(size) * static_cast<std::size_t>(size), 20);
     for (std::size_t fi = 0; fi < p.mesh.num_faces(); ++fi) {
         const auto f = mesh::face_id(fi);
-        std::array<Vec2, 3> uv;
-        if (p.surface.periodic()) {
-            for (int k = 0; k < 3; ++k) {
-                const Vec2 d = p.mesh.corner_domain(f, k);
-                uv[static_cast<std::size_t>(k)] = Vec2(d.x() / p.mesh.period.x(), d.y() / p.mesh.period.y());
-            }
-        } else {
-            for (int k = 0; k < 3; ++k)
-                uv[static_cast<std::size_t>(k)] = p.surface.uv(p.mesh.corner_position(f, k));
-            for (std::size_t k = 1; k < 3; ++k) { // unwrap across the date line
-                if (uv[k].x() - uv[0].x() > 0.5) uv[k].x() -= 1.0;
-                if (uv[k].x() - uv[0].x() < -0.5) uv[k].x() += 1.0;
-            }
-        }
+        const std::array<Vec2, 3> uv = face_uv(p, f);
         const auto colour = p.removed[fi] ? std::array<std::uint8_t, 3>{25, 20, 18} : fragment_colour(p.fragment[fi]);
-        // Shift the unwrapped triangle into the tile, then draw it and its wrapped copies.
-        const Vec2 base(std::floor(uv[0].x()), std::floor(uv[0].y()));
-        for (auto& q : uv)
-            q -= base;
+        // Draw the triangle and its wrapped copies.
         const int dv_max = p.surface.periodic() ? 1 : 0;
         for (int du = -1; du <= 1; ++du)
             for (int dv = -dv_max; dv <= dv_max; ++dv) {
@@ -80,6 +103,15 @@ RgbImage preview_image(const CrackPattern& p, int size) {
                     q += Vec2(du, dv);
                 fill_triangle(img, s, colour);
             }
+    }
+    // Crack lips that are not bounded by removed elements (splitting, broken springs).
+    const int dv_max = p.surface.periodic() ? 1 : 0;
+    for (const CrackEdge& c : p.cracks) {
+        const std::array<Vec2, 3> uv = face_uv(p, c.face);
+        const Vec2 a = uv[static_cast<std::size_t>(c.edge)], b = uv[static_cast<std::size_t>((c.edge + 1) % 3)];
+        for (int du = -1; du <= 1; ++du)
+            for (int dv = -dv_max; dv <= dv_max; ++dv)
+                draw_line(img, a + Vec2(du, dv), b + Vec2(du, dv), {25, 20, 18});
     }
     return img;
 }

@@ -3,7 +3,10 @@
 #include <Eigen/Eigenvalues>
 
 #include <algorithm>
+#include <array>
 #include <complex>
+#include <map>
+#include <set>
 
 namespace crackle::fracture {
 
@@ -57,6 +60,36 @@ SkeletonGraph removal_skeleton(const CrackPattern& p) {
             g.adjacency[static_cast<std::size_t>(node_of[f])].push_back(
                 static_cast<std::uint32_t>(node_of[ix(nb.face)]));
         }
+    }
+    return g;
+}
+
+/// Crack vertices (copies of one reference point merged) linked along crack edges, for
+/// patterns whose cracks are edges rather than removed elements (springs, splitting).
+SkeletonGraph crack_skeleton(const CrackPattern& p) {
+    SkeletonGraph g;
+    std::map<std::array<double, 3>, std::uint32_t> node_of;
+    auto node = [&](mesh::VertexId v) {
+        const Vec3 key3 =
+            p.surface.periodic() ? Vec3(p.mesh.domain[v].x(), p.mesh.domain[v].y(), 0.0) : p.mesh.positions[v];
+        const std::array<double, 3> key{key3.x(), key3.y(), key3.z()};
+        const auto [it, inserted] = node_of.emplace(key, static_cast<std::uint32_t>(g.position.size()));
+        if (inserted) {
+            g.position.push_back(key3);
+            g.adjacency.emplace_back();
+        }
+        return it->second;
+    };
+    std::set<std::pair<std::uint32_t, std::uint32_t>> links;
+    for (const CrackEdge& c : p.cracks) {
+        const auto& face = p.mesh.faces[c.face];
+        std::uint32_t a = node(face.v[static_cast<std::size_t>(c.edge)]);
+        std::uint32_t b = node(face.v[static_cast<std::size_t>((c.edge + 1) % 3)]);
+        if (a == b) continue;
+        if (a > b) std::swap(a, b);
+        if (!links.emplace(a, b).second) continue; // the other lip
+        g.adjacency[a].push_back(b);
+        g.adjacency[b].push_back(a);
     }
     return g;
 }
@@ -123,27 +156,25 @@ JunctionKind classify_junction(double a, double b, double c) {
 }
 
 std::vector<CrackSegment> crack_segments(const CrackPattern& p) {
+    // One segment per crack lip (each crack has two: weight ½).
     std::vector<CrackSegment> segments;
-    for (std::size_t fi = 0; fi < p.mesh.num_faces(); ++fi) {
-        if (p.removed[fi]) continue;
-        const FaceId f = face_id(fi);
-        for (int k = 0; k < 3; ++k) {
-            const mesh::FaceNeighbor nb = p.mesh.neighbor(f, k);
-            if (nb.face != mesh::NO_FACE && !p.removed[ix(nb.face)]) continue;
-            CrackSegment s;
-            const Vec3 mid3 = 0.5 * (p.mesh.corner_position(f, k) + p.mesh.corner_position(f, (k + 1) % 3));
-            const mesh::TangentFrame frame = p.surface.periodic() ? mesh::TangentFrame{} : p.surface.frame(mid3);
-            s.a = corner_2d(p, f, k, mid3, frame);
-            s.b = corner_2d(p, f, (k + 1) % 3, mid3, frame);
-            s.weight = 0.5;
-            if (p.surface.periodic()) {
-                const Vec2 m = 0.5 * (s.a + s.b);
-                s.uv = Vec2(wrap(m.x() / p.mesh.period.x(), 1.0), wrap(m.y() / p.mesh.period.y(), 1.0));
-            } else {
-                s.uv = p.surface.uv(p.surface.project(mid3));
-            }
-            segments.push_back(s);
+    segments.reserve(p.cracks.size());
+    for (const CrackEdge& c : p.cracks) {
+        const FaceId f = c.face;
+        const int k = c.edge;
+        CrackSegment s;
+        const Vec3 mid3 = 0.5 * (p.mesh.corner_position(f, k) + p.mesh.corner_position(f, (k + 1) % 3));
+        const mesh::TangentFrame frame = p.surface.periodic() ? mesh::TangentFrame{} : p.surface.frame(mid3);
+        s.a = corner_2d(p, f, k, mid3, frame);
+        s.b = corner_2d(p, f, (k + 1) % 3, mid3, frame);
+        s.weight = 0.5;
+        if (p.surface.periodic()) {
+            const Vec2 m = 0.5 * (s.a + s.b);
+            s.uv = Vec2(wrap(m.x() / p.mesh.period.x(), 1.0), wrap(m.y() / p.mesh.period.y(), 1.0));
+        } else {
+            s.uv = p.surface.uv(p.surface.project(mid3));
         }
+        segments.push_back(s);
     }
     return segments;
 }
@@ -190,7 +221,8 @@ PatternStatistics pattern_statistics(const CrackPattern& p) {
     st.crack_length_per_area = st.total_area > 0 ? st.crack_length / st.total_area : 0.0;
 
     // === Junctions of the crack network
-    const JunctionCounts jc = junction_counts(p, removal_skeleton(p));
+    const bool removal = std::any_of(p.removed.begin(), p.removed.end(), [](char r) { return r != 0; });
+    const JunctionCounts jc = junction_counts(p, removal ? removal_skeleton(p) : crack_skeleton(p));
     st.junctions = jc.total;
     if (jc.total > 0) {
         st.t_junction_fraction = static_cast<double>(jc.t) / jc.total;

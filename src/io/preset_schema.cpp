@@ -157,6 +157,15 @@ std::vector<KeySpec> build_schema() {
                        "0.2–0.3 gives semi-random triangles."));
     s.push_back(integer("simulation", "repulsion_iterations", 100, "", 0, 1000,
                         "Particle-repulsion iterations at most (0 = uniformly random points, poor triangles)."));
+    s.push_back(integer("simulation", "layers", 1, "", 1, 16,
+                        "mass-spring only: stacked material layers joined by springs across the thickness; only "
+                        "the bottom one is anchored (§4.3). More layers = cracks of varying depth."));
+    s.push_back(number("simulation", "anchor_slide", 0.5, "", 0.0, 100.0,
+                       "mass-spring only: an anchor spring longer than this (in mean spring lengths) slides along "
+                       "the background (§4.1); 0 = anchors never slide."));
+    s.push_back(number("simulation", "break_jitter", 0.0, "", 0.0, 0.9,
+                       "mass-spring only: break strains perturbed uniformly by ± this fraction (Fig. 4.6 right): "
+                       "weakens the lattice's preferred crack directions."));
     s.push_back(number("simulation", "min_element_size", 0.0, "m", 0.0, 1000.0,
                        "Dynamic subdivision (§5.6.4): an element over threshold but longer than this is "
                        "subdivided instead of cracked, so fine elements appear only where cracks run. 0 = off "
@@ -164,10 +173,13 @@ std::vector<KeySpec> build_schema() {
     s.push_back(choice("simulation", "solver", "cg", {"cg", "direct"},
                        "Equilibrium solver: cg = conjugate gradient warm-started from the last solution (the "
                        "default, fastest per crack event); direct = sparse Cholesky (CHOLMOD)."));
-    s.push_back(number("simulation", "solver_tolerance", 1e-9, "", 1e-14, 1e-3,
-                       "CG residual relative to the growth/shrinkage load. Looser = faster, less exact stresses."));
+    s.push_back(
+        number("simulation", "solver_tolerance", 1e-9, "", 1e-14, 1e-3,
+               "CG residual relative to the growth/shrinkage load (mass-spring: largest nodal force relative to "
+               "a typical spring's break force). Looser = faster, less exact stresses."));
     s.push_back(integer("simulation", "solver_max_iterations", 20000, "", 1, 1.0e7,
-                        "CG iterations before the run fails with exit code 3."));
+                        "CG iterations (mass-spring: Newton iterations of one relaxation, at most 1000) before the run "
+                        "fails with exit code 3."));
     s.push_back(integer("simulation", "max_events", 1000000, "", 1, 1.0e8,
                         "Stop after this many fracture events (a safety net; the report says when it was hit)."));
     s.push_back(choice("simulation", "density", "uniform", {"uniform", "thickness"},

@@ -17,6 +17,13 @@ namespace {
 bool contains(const std::string& s, const std::string& part) {
     return s.find(part) != std::string::npos;
 }
+
+/// A top-level number of a JSON report (NaN if absent).
+double number_field(const std::string& json, const std::string& key) {
+    std::smatch m;
+    if (!std::regex_search(json, m, std::regex("\"" + key + "\": (-?[0-9.eE+-]+)"))) return std::nan("");
+    return std::stod(m[1].str());
+}
 } // namespace
 
 TEST_SUITE("app") {
@@ -182,6 +189,40 @@ TEST_SUITE("app") {
             CHECK(std::count(events.begin(), events.end(), '\n') > 5);
             CHECK(test::slurp(png).substr(1, 3) == "PNG");
         }
+    }
+
+    TEST_CASE("cli: simulate and bake run mass-spring on plane and cylinder and sphere") {
+        const bool gl = test::gl_context_or_skip() != nullptr;
+        const auto dir = test::scratch_dir("cli-mass-spring");
+        for (const char* preset : {"mud", "bark", "fruit"}) {
+            for (const char* lattice : {"random", "regular"}) {
+                CAPTURE(preset);
+                CAPTURE(lattice);
+                const fs::path json = dir / (std::string(preset) + lattice + ".json");
+                const auto r = run_cli({"-q", "simulate", preset, "--set", "simulation.method=mass-spring", "--set",
+                                        std::string("simulation.lattice=") + lattice, "--set", "simulation.layers=2",
+                                        "--set", "simulation.elements=600", "--json", json.string()});
+                REQUIRE_MESSAGE(r.code == 0, r.err);
+                const std::string report = test::slurp(json);
+                CHECK(contains(report, "\"method\": \"mass-spring\""));
+                CHECK(number_field(report, "breaks") > 0);
+                CHECK(number_field(report, "crack_length_per_area") > 0.0);
+                CHECK(std::regex_search(report, std::regex("\"crack_depth_histogram\": \\{\\s*\"[12]\": [1-9]")));
+            }
+            if (!gl) continue;
+            const auto b = run_cli({"-q", "bake", preset, "--size", "64", "--set", "simulation.method=mass-spring",
+                                    "--set", "simulation.elements=600", "--out", (dir / preset).string()});
+            CHECK_MESSAGE(b.code == 0, b.err);
+            CHECK(fs::exists(dir / preset / (std::string(preset) + "_Displacement.png")));
+        }
+    }
+
+    TEST_CASE("cli: a mass-spring relaxation that cannot converge exits with code 3 and reports its numbers") {
+        const auto r = run_cli({"simulate", "mud", "--set", "simulation.method=mass-spring", "--set",
+                                "simulation.elements=300", "--set", "simulation.solver_max_iterations=1"});
+        CHECK(r.code == 3);
+        CHECK(contains(r.err, "Newton iterations"));
+        CHECK(contains(r.err, "largest force"));
     }
 
     TEST_CASE("cli: a solver that cannot converge exits with code 3 and reports iterations and residual") {

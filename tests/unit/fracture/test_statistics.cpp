@@ -19,6 +19,7 @@ fracture::CrackPattern pattern_with(const std::function<bool(const Vec2&)>& cut,
         p.removed[f] = cut(Vec2(wrap(c.x(), 1.0), wrap(c.y(), 1.0))) ? 1 : 0;
     }
     fracture::label_fragments(p);
+    p.cracks = fracture::removal_crack_lips(p);
     return p;
 }
 

@@ -1,0 +1,231 @@
+#include "core/error.hpp"
+#include "support/mass_spring_fixture.hpp"
+
+#include <doctest/doctest.h>
+
+#include <set>
+
+using namespace crackle;
+
+namespace {
+
+/// Clay-like layer on a 0.2 m periodic plane: break strain σ_b(1 − ν)/E = 1.4e-3.
+test::SpringSpec clay(std::size_t masses, fracture::Lattice lattice, std::uint64_t seed = 1) {
+    test::SpringSpec s;
+    s.layer.size = Vec2(0.2, 0.2);
+    s.layer.thickness = 0.01;
+    s.layer.young = 1e7;
+    s.layer.threshold = 2e4;
+    s.layer.seed = seed;
+    s.masses = masses;
+    s.options.lattice = lattice;
+    s.options.break_jitter = 0.05;
+    return s;
+}
+
+/// Share of the crack length (segment by segment) within `tol` degrees of one of `dirs`.
+double segment_share_near(const fracture::CrackPattern& p, std::initializer_list<double> dirs, double tol) {
+    std::vector<std::pair<double, double>> d;
+    for (const auto& s : fracture::crack_segments(p)) {
+        const Vec2 t = s.b - s.a;
+        d.emplace_back(wrap(std::atan2(t.y(), t.x()) * RAD_TO_DEG, 180.0), s.length());
+    }
+    return test::share_near(d, dirs, tol);
+}
+
+} // namespace
+
+TEST_SUITE("fracture") {
+    TEST_CASE("mass-spring: uniform shrinkage and isogonic growth keep the masses on their anchors at the analytic "
+              "strain") {
+        // Cotangent (Hirota) spring constants reproduce affine displacement fields exactly, so a
+        // uniformly loaded periodic network has every mass at its anchor and every spring at
+        // strain 1/(1 − s) − 1 (shrinkage) or g·t (growth).
+        for (int growth = 0; growth < 2; ++growth)
+            for (auto lattice : {fracture::Lattice::Random, fracture::Lattice::Regular}) {
+                test::SpringSpec s = clay(300, lattice);
+                if (growth)
+                    s.layer.growth = {sim::GrowthKind::Isogonic, 1e-3, 1e-3, 0};
+                else
+                    s.layer.shrinkage.top_rate = s.layer.shrinkage.bottom_rate = 1e-3;
+                test::SpringLayer layer(s);
+                auto& m = *layer.model;
+                m.set_time(0.7);
+                m.relax();
+                CHECK(m.max_force() <= s.options.tolerance * m.force_scale());
+                const double strain = growth ? 0.7e-3 : 1.0 / (1.0 - 0.7e-3) - 1.0;
+                double worst = 0;
+                for (std::size_t i = 0; i < m.springs().size(); ++i)
+                    worst = std::max(worst, std::abs(m.ratio(i) * m.springs()[i].break_strain - strain));
+                CAPTURE(growth);
+                CHECK(worst < 1e-9);
+            }
+    }
+
+    TEST_CASE("mass-spring: a broken spring loads the springs at its crack tips and relieves those in series") {
+        test::SpringSpec s = clay(400, fracture::Lattice::Regular);
+        s.options.break_jitter = 0;
+        s.layer.shrinkage.top_rate = s.layer.shrinkage.bottom_rate = 1e-3;
+        test::SpringLayer layer(s);
+        auto& m = *layer.model;
+        m.set_time(1.0);
+        m.relax();
+        const auto& sp = m.springs();
+        std::vector<double> before(sp.size());
+        for (std::size_t i = 0; i < sp.size(); ++i)
+            before[i] = m.ratio(i);
+        const std::size_t victim = sp.size() / 2;
+        m.break_spring(victim);
+        m.relax();
+        CHECK(m.max_force() <= s.options.tolerance * m.force_scale());
+        const auto a = sp[victim].a, b = sp[victim].b;
+        // Neighbours of both ends close the two triangles on the broken spring: its crack tips.
+        std::set<std::uint32_t> na, nb;
+        for (const auto& q : sp) {
+            if (q.a == a) na.insert(q.b);
+            if (q.b == a) na.insert(q.a);
+            if (q.a == b) nb.insert(q.b);
+            if (q.b == b) nb.insert(q.a);
+        }
+        int tips = 0, series = 0;
+        for (std::size_t i = 0; i < sp.size(); ++i) {
+            if (i == victim) continue;
+            const bool at_a = sp[i].a == a || sp[i].b == a, at_b = sp[i].a == b || sp[i].b == b;
+            if (!at_a && !at_b) continue;
+            const std::uint32_t other = at_a ? (sp[i].a == a ? sp[i].b : sp[i].a) : (sp[i].a == b ? sp[i].b : sp[i].a);
+            const bool tip = at_a ? nb.count(other) > 0 : na.count(other) > 0;
+            const Vec3 d0 = (m.position(b) - m.position(a)).normalized();
+            const Vec3 d1 = (m.position(sp[i].b) - m.position(sp[i].a)).normalized();
+            CAPTURE(i);
+            if (tip) {
+                CHECK(m.ratio(i) > 1.1 * before[i]);
+                ++tips;
+            } else if (std::abs(d0.dot(d1)) > 0.99) {
+                CHECK(m.ratio(i) < 0.7 * before[i]);
+                ++series;
+            }
+        }
+        CHECK(tips == 4);
+        CHECK(series == 2);
+    }
+
+    TEST_CASE("mass-spring: isogonic growth and isogonic shrinkage break the same springs in the same order "
+              "(Fig. 4.5)") {
+        // 1 + g·t_g = 1/(1 − s·t_s): the same states, reached at remapped times.
+        const double g = 3e-3, s_rate = 1.0 - 1.0 / (1.0 + g);
+        test::SpringSpec grow = clay(500, fracture::Lattice::Random), shrink = grow;
+        grow.options.anchor_slide = shrink.options.anchor_slide = 0; // an absolute length would break the scaling
+        grow.layer.growth = {sim::GrowthKind::Isogonic, g, g, 0};
+        shrink.layer.shrinkage.top_rate = shrink.layer.shrinkage.bottom_rate = s_rate;
+        const auto rg = test::run_springs(grow), rs = test::run_springs(shrink);
+        REQUIRE(rg.pattern.events.size() > 50);
+        CHECK(rg.pattern.events.size() == rs.pattern.events.size());
+        const std::size_t n = std::min(rg.pattern.events.size(), rs.pattern.events.size());
+        std::size_t same = 0;
+        double worst_time = 0;
+        for (std::size_t i = 0; i < n; ++i) {
+            const auto& eg = rg.pattern.events[i];
+            const auto& es = rs.pattern.events[i];
+            if ((eg.position - es.position).norm() > 1e-12) continue;
+            ++same;
+            const double mapped = (1.0 - 1.0 / (1.0 + g * eg.time)) / s_rate;
+            worst_time = std::max(worst_time, std::abs(mapped - es.time));
+        }
+        CHECK(same == n);
+        CHECK(worst_time < 1e-6);
+        CHECK(rg.stats.crack_length_per_area == doctest::Approx(rs.stats.crack_length_per_area).epsilon(1e-9));
+    }
+
+    TEST_CASE("mass-spring: on the regular lattice cracks follow the lattice (Fig. 4.5) and on the random one they "
+              "do not (Fig. 4.8)") {
+        // Isogonic loading: no preferred direction but the lattice's. The lattice's springs run
+        // along v and ±30° from u, so its Voronoi edges (where cracks run) lie at 0°, 60° and 120°.
+        for (auto lattice : {fracture::Lattice::Regular, fracture::Lattice::Random}) {
+            test::SpringSpec s = clay(600, lattice);
+            s.layer.shrinkage.top_rate = s.layer.shrinkage.bottom_rate = 2e-3;
+            const auto r = test::run_springs(s);
+            const double lacking = segment_share_near(r.pattern, {30, 90, 150}, 15);
+            const bool regular = lattice == fracture::Lattice::Regular;
+            CAPTURE(regular);
+            CAPTURE(r.stats.psi6);
+            CAPTURE(lacking);
+            REQUIRE(r.stats.crack_length_per_area > 5.0);
+            if (regular) {
+                CHECK(r.stats.psi6 > 0.95);
+                CHECK(lacking < 0.02);
+            } else {
+                CHECK(r.stats.psi6 < 0.2);
+                CHECK(lacking > 0.3); // about half for uniformly spread directions
+            }
+        }
+    }
+
+    TEST_CASE("mass-spring: growth along v gives horizontal cracks on the random lattice but not on the regular one "
+              "(Fig. 4.6)") {
+        for (auto lattice : {fracture::Lattice::Regular, fracture::Lattice::Random}) {
+            test::SpringSpec s = clay(1000, lattice);
+            s.layer.growth = {sim::GrowthKind::Anisotropic, 4e-3, 0.0, 90};
+            const auto r = test::run_springs(s);
+            const auto dirs = test::coarse_crack_directions(r.pattern, 0.02);
+            const double horizontal = test::share_near(dirs, {0}, 15);
+            const bool regular = lattice == fracture::Lattice::Regular;
+            CAPTURE(regular);
+            CAPTURE(horizontal);
+            REQUIRE(r.stats.crack_length_per_area > 3.0);
+            if (regular)
+                CHECK(horizontal < 0.5);
+            else
+                CHECK(horizontal > 0.8);
+        }
+    }
+
+    TEST_CASE("mass-spring: on the random lattice crack density grows with resolution (Fig. 4.9)") {
+        auto density = [](std::size_t masses) {
+            test::SpringSpec s = clay(masses, fracture::Lattice::Random);
+            s.layer.thickness = 0.03;
+            s.layer.shrinkage.top_rate = s.layer.shrinkage.bottom_rate = 1.6e-3;
+            return test::run_springs(s).stats.crack_length_per_area;
+        };
+        const double coarse = density(1000), fine = density(4000);
+        CAPTURE(coarse);
+        CAPTURE(fine);
+        CHECK(coarse > 5.0);
+        CHECK(fine > 1.2 * coarse);
+    }
+
+    TEST_CASE("mass-spring: several layers give cracks of more than one depth (§4.3)") {
+        test::SpringSpec s = clay(500, fracture::Lattice::Random);
+        s.options.layers = 3;
+        s.layer.thickness = 0.02;
+        s.layer.shrinkage.top_rate = 3e-3; // the top dries first: cracks start there and some go deeper
+        s.layer.shrinkage.bottom_rate = 0.5e-3;
+        const auto r = test::run_springs(s);
+        const std::set<int> depths(r.springs.crack_depth_layers.begin(), r.springs.crack_depth_layers.end());
+        CAPTURE(r.springs.crack_depth_layers.size());
+        REQUIRE(r.springs.crack_depth_layers.size() > 10);
+        // The lips' depth in metres says the same.
+        for (const auto& c : r.pattern.cracks)
+            CHECK(std::fmod(c.depth / (0.02 / 3) + 0.5, 1.0) == doctest::Approx(0.5).epsilon(1e-6));
+        CHECK(depths.size() >= 2);
+        CHECK(*depths.begin() >= 1);
+        CHECK(*depths.rbegin() <= 3);
+    }
+
+    TEST_CASE("mass-spring: a relaxation that cannot converge throws with the iterations and the residual") {
+        test::SpringSpec s = clay(200, fracture::Lattice::Random);
+        s.layer.shrinkage.top_rate = s.layer.shrinkage.bottom_rate = 3e-3;
+        s.options.max_newton_iterations = 1;
+        test::SpringLayer layer(s);
+        layer.model->set_time(1.0);
+        layer.model->relax(); // uniform shrinkage: already in equilibrium (see above)
+        layer.model->break_spring(0);
+        try {
+            layer.model->relax();
+            FAIL("relax() should have thrown");
+        } catch (const NumericError& e) {
+            const std::string what = e.what();
+            CHECK(what.find("Newton iterations") != std::string::npos);
+            CHECK(what.find("largest force") != std::string::npos);
+        }
+    }
+}
