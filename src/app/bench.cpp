@@ -139,6 +139,56 @@ Json bench_fem_remove(const std::vector<std::size_t>& sizes, std::ostream& out) 
     return rows;
 }
 
+/// The mud preset cracked by mass-spring at several mass counts, next to fem-remove on the
+/// same scene and mesh resolution (one mass per two triangles). From 64k masses on, the
+/// mass-spring run stops after `max_breaks` (the report says so): breaks per second only.
+Json bench_mass_spring(const std::vector<std::size_t>& masses, std::size_t max_breaks, std::ostream& out) {
+    out << "\n### mass-spring vs fem-remove: mud (0.5 m tile, 1 cm layer)\n\n"
+        << "| masses | breaks | reached t | wall | breaks/s | Newton its/break | crack m/m² | fem-remove elements | "
+           "events | wall | events/s | crack m/m² |\n"
+        << "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+    Json rows = Json::array();
+    for (std::size_t n : masses) {
+        auto run = [&](const std::string& method, std::size_t cap) {
+            io::PresetRequest r;
+            r.name_or_path = "mud";
+            r.overrides = {"simulation.elements=" + std::to_string(2 * n), "simulation.method=" + method,
+                           "simulation.max_events=" + std::to_string(cap)};
+            StepTimes ignored;
+            return run_simulation(io::load_preset(r), ignored);
+        };
+        const SimulationResult ms = run("mass-spring", n >= 64000 ? max_breaks : 100000000);
+        const SimulationResult fr = run("fem-remove", 100000000);
+        const double ms_breaks = static_cast<double>(ms.pattern.events.size());
+        const double fr_events = static_cast<double>(fr.pattern.events.size());
+        Json row = Json::object();
+        row["masses"] = n;
+        row["breaks"] = ms.pattern.events.size();
+        row["capped"] = ms.pattern.events_capped;
+        row["final_time"] = ms.pattern.final_time;
+        row["seconds"] = ms.run.total_seconds;
+        row["breaks_per_second"] = ms_breaks / ms.run.total_seconds;
+        row["newton_iterations"] = ms.newton_iterations;
+        row["factorizations"] = ms.factorizations;
+        row["crack_length_per_area"] = ms.statistics.crack_length_per_area;
+        row["fem_remove_elements"] = fr.elements_initial;
+        row["fem_remove_events"] = fr.pattern.events.size();
+        row["fem_remove_seconds"] = fr.run.total_seconds;
+        row["fem_remove_crack_length_per_area"] = fr.statistics.crack_length_per_area;
+        out << "| " << n << " | " << ms.pattern.events.size() << (ms.pattern.events_capped ? " (cap)" : "") << " | "
+            << fmt("%.2f", ms.pattern.final_time) << " | " << fmt("%.1f s", ms.run.total_seconds) << " | "
+            << fmt("%.0f", ms_breaks / ms.run.total_seconds) << " | "
+            << fmt("%.1f", static_cast<double>(ms.newton_iterations) / std::max(ms_breaks, 1.0)) << " | "
+            << fmt("%.1f", ms.statistics.crack_length_per_area) << " | " << fr.elements_initial << " | "
+            << fr.pattern.events.size() << " | " << fmt("%.1f s", fr.run.total_seconds) << " | "
+            << fmt("%.0f", fr_events / fr.run.total_seconds) << " | "
+            << fmt("%.1f", fr.statistics.crack_length_per_area) << " |\n";
+        out.flush();
+        rows.push_back(row);
+    }
+    return rows;
+}
+
 /// The mud preset's pieces baked at several sizes: render, readback, occlusion and encoding.
 Json bench_bake(const std::vector<int>& sizes, std::ostream& out) {
     io::PresetRequest r;
@@ -185,7 +235,7 @@ Json bench_bake(const std::vector<int>& sizes, std::ostream& out) {
 } // namespace
 
 const std::vector<std::string>& bench_scenes() {
-    static const std::vector<std::string> scenes = {"solve", "fem-remove", "bake"};
+    static const std::vector<std::string> scenes = {"solve", "fem-remove", "mass-spring", "bake"};
     return scenes;
 }
 
@@ -194,7 +244,7 @@ int bench_command(const BenchArgs& args, std::ostream& out) {
     for (const auto& s : scenes)
         if (std::find(bench_scenes().begin(), bench_scenes().end(), s) == bench_scenes().end())
             throw InputError("bench", "unknown scene '" + s + "'" + did_you_mean(s, bench_scenes()),
-                             "scenes are: solve, fem-remove, bake");
+                             "scenes are: solve, fem-remove, mass-spring, bake");
     Json report = Json::object();
     report["quick"] = args.quick;
     out << "# crackle bench" << (args.quick ? " (quick)" : "") << "\n";
@@ -206,6 +256,10 @@ int bench_command(const BenchArgs& args, std::ostream& out) {
         if (s == "fem-remove")
             report["fem_remove"] = bench_fem_remove(
                 args.quick ? std::vector<std::size_t>{2000} : std::vector<std::size_t>{5000, 20000}, out);
+        if (s == "mass-spring")
+            report["mass_spring"] = bench_mass_spring(args.quick ? std::vector<std::size_t>{1000}
+                                                                 : std::vector<std::size_t>{1000, 4000, 16000, 64000},
+                                                      2000, out);
         if (s == "bake")
             report["bake"] =
                 bench_bake(args.quick ? std::vector<int>{256, 1024} : std::vector<int>{1024, 2048, 4096}, out);

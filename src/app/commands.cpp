@@ -183,6 +183,13 @@ Json simulation_report(const io::Preset& preset, const SimulationResult& r, cons
     report["events_capped"] = r.pattern.events_capped;
     report["removals"] = r.run.removals;
     report["subdivisions"] = r.run.subdivisions;
+    if (r.pattern.method == "fem-split") {
+        report["splits"] = r.run.splits;
+        report["tip_extensions"] = r.run.extensions;
+        report["tip_arrests"] = r.run.arrests;
+        report["edge_collapses"] = r.run.collapses;
+        report["snapped_cuts"] = r.run.snaps;
+    }
     report["time_steps"] = r.run.time_steps;
     report["solves"] = r.run.solves;
     report["solver_iterations"] = r.run.solver_iterations;
@@ -224,6 +231,10 @@ void print_simulation(std::ostream& out, const io::Preset& preset, const Simulat
         out << "  springs      " << r.elements_initial << " material springs on " << r.nodes << " masses, "
             << r.run.removals << " broken; " << r.newton_iterations << " Newton iterations, " << r.factorizations
             << " factorizations\n";
+    else if (r.pattern.method == "fem-split")
+        out << "  elements     " << r.elements_initial << " initial, " << r.elements_final << " at the end; "
+            << r.run.splits << " new cracks, " << r.run.extensions << " tip extensions, " << r.run.arrests
+            << " arrests (Griffith); " << r.run.collapses << " edge collapses, " << r.run.snaps << " snapped cuts\n";
     else
         out << "  elements     " << r.elements_initial << " initial, " << r.elements_final << " intact at the end ("
             << r.run.removals << " removed, " << r.run.subdivisions << " subdivisions)\n";

@@ -2,6 +2,7 @@
 
 #include "core/log.hpp"
 #include "core/timer.hpp"
+#include "fracture/fem_split.hpp"
 #include "fracture/mass_spring.hpp"
 
 #include <filesystem>
@@ -68,7 +69,8 @@ SimulationResult run_simulation(const io::Preset& preset, StepTimes& times) {
     } else {
         mesh::SurfaceMesh surface_mesh = discretize_scene(*r.scene, &times);
         r.elements_initial = surface_mesh.num_faces();
-        {
+        const bool removal = preset.text("simulation.method") == "fem-remove";
+        if (removal) {
             // Element removal takes out whole elements: on elements much wider than the layer is
             // thick, most of the layer goes (thesis Fig. 5.11, failure mode F6).
             const double edge = mesh::mesh_quality(surface_mesh).edge_mean;
@@ -84,7 +86,15 @@ SimulationResult run_simulation(const io::Preset& preset, StepTimes& times) {
         times.emplace_back("assembly", step.seconds());
         step.reset();
         Rng rng(r.scene->seed, RngStream::Fracture);
-        r.pattern = fracture::run_fem_remove(model, fracture_options(preset), rng, &r.run);
+        if (removal) {
+            r.pattern = fracture::run_fem_remove(model, fracture_options(preset), rng, &r.run);
+        } else {
+            fracture::SplitOptions split;
+            split.min_angle_deg = preset.number("simulation.min_angle");
+            split.exclusion_radius = preset.number("simulation.exclusion_radius");
+            split.griffith = preset.flag("simulation.griffith");
+            r.pattern = fracture::run_fem_split(model, fracture_options(preset), split, rng, &r.run);
+        }
         times.emplace_back("fracture", step.seconds());
         times.emplace_back("fracture.solve", r.run.solve_seconds);
         times.emplace_back("fracture.stress", r.run.stress_seconds);

@@ -123,9 +123,10 @@ sim::LayerFields layer_fields(const Scene& scene) {
 
 void require_available_method(const io::Preset& preset) {
     const std::string method = preset.text("simulation.method");
-    if (method == "fem-remove" || method == "mass-spring") return;
+    if (method == "fem-remove" || method == "fem-split" || method == "mass-spring") return;
     throw InputError(preset.entry("simulation.method").source.text(),
-                     "simulation.method = \"" + method + "\" is not available in this version", "use \"fem-remove\"");
+                     "simulation.method = \"" + method + "\" is not available in this version",
+                     "use \"fem-split\", \"fem-remove\" or \"mass-spring\"");
 }
 
 } // namespace crackle::app

@@ -24,6 +24,9 @@ struct FractureOptions {
 /// What the run did and where the time went.
 struct RunStats {
     std::size_t removals = 0, subdivisions = 0, time_steps = 0, solves = 0;
+    /// fem-split: new fractures, accepted and rejected (Griffith) tip extensions, cuts moved
+    /// onto a vertex by edge collapse, cuts snapped to a vertex that could not move.
+    std::size_t splits = 0, extensions = 0, arrests = 0, collapses = 0, snaps = 0;
     long long solver_iterations = 0;
     std::size_t local_solves = 0, local_nodes = 0, local_fallbacks = 0, global_cleanups = 0;
     double solve_seconds = 0;    ///< equilibrium: local and global solves, moving along the rate

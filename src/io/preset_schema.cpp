@@ -166,6 +166,17 @@ std::vector<KeySpec> build_schema() {
     s.push_back(number("simulation", "break_jitter", 0.0, "", 0.0, 0.9,
                        "mass-spring only: break strains perturbed uniformly by ± this fraction (Fig. 4.6 right): "
                        "weakens the lattice's preferred crack directions."));
+    s.push_back(number("simulation", "min_angle", 12.0, "deg", 1.0, 30.0,
+                       "fem-split only: smallest triangle angle a cut may leave (§5.7.5); a cut that would leave "
+                       "a thinner sliver goes through the nearer vertex, moved onto the crack when it is free. "
+                       "Higher = better-shaped elements, cracks a little less straight."));
+    s.push_back(number("simulation", "exclusion_radius", -1.0, "m", -1.0, 100.0,
+                       "fem-split only: no new crack starts within this distance of an arrested crack tip, where "
+                       "the stress is singular (Ch. 6). -1 = the mean layer thickness."));
+    s.push_back(boolean("simulation", "griffith", true,
+                        "fem-split only: a crack tip extends only while the energy it releases pays for the new "
+                        "crack wall (Griffith, Alg. 11, with material.toughness). false = tips run while the "
+                        "stress is over threshold."));
     s.push_back(number("simulation", "min_element_size", 0.0, "m", 0.0, 1000.0,
                        "Dynamic subdivision (§5.6.4): an element over threshold but longer than this is "
                        "subdivided instead of cracked, so fine elements appear only where cracks run. 0 = off "

@@ -3,6 +3,7 @@
 #include "core/error.hpp"
 #include "core/log.hpp"
 #include "core/timer.hpp"
+#include "mesh/cut.hpp"
 #include "mesh/refine.hpp"
 
 #include <Eigen/CholmodSupport>
@@ -40,9 +41,18 @@ struct FemModel::Solver {
     Eigen::SparseMatrix<double> lower; // CHOLMOD wants column-major lower storage
     bool analyzed = false;
     bool factorized = false;
+    bool ready = false;         ///< update() has seen the current K (false in a fresh copy)
+    bool pattern_dirty = false; ///< K's pattern changed since the last update()
+
+    /// K changed: set up again before the next solve (lazily: local solves do not need it).
+    void invalidate(bool pattern_changed) {
+        ready = false;
+        pattern_dirty = pattern_dirty || pattern_changed;
+    }
 
     /// Called whenever K's values (or pattern) change.
     void update(const SpMatR& K, bool pattern_changed) {
+        ready = true;
         if (kind == SolverKind::Cg) {
             cg.compute(K); // diagonal preconditioner: O(n)
             return;
@@ -65,17 +75,158 @@ struct FemModel::Solver {
     }
 };
 
+FemModel::SolverSlot::SolverSlot(SolverKind kind) : solver(std::make_unique<Solver>()) {
+    solver->kind = kind;
+}
+FemModel::SolverSlot::SolverSlot(const SolverSlot& other) : SolverSlot(other.solver->kind) {}
+FemModel::SolverSlot& FemModel::SolverSlot::operator=(const SolverSlot& other) {
+    if (this != &other) {
+        solver = std::make_unique<Solver>();
+        solver->kind = other.solver->kind;
+    }
+    return *this;
+}
+FemModel::SolverSlot::SolverSlot(SolverSlot&& other) noexcept : SolverSlot(other.solver->kind) {}
+FemModel::SolverSlot& FemModel::SolverSlot::operator=(SolverSlot&& other) noexcept {
+    // The moved matrix lives at a new address: the solver must be set up again.
+    if (this != &other) {
+        solver = std::make_unique<Solver>();
+        solver->kind = other.solver->kind;
+    }
+    return *this;
+}
+FemModel::SolverSlot::~SolverSlot() = default;
+
+// === Trials (undoable changes)
+
+struct FemModel::Trial {
+    std::size_t faces = 0, vertices = 0;
+    mesh::SurfaceMesh mesh;
+    std::vector<Vec3> normal;
+    std::vector<double> thickness, last_update;
+    Field x, xdot;
+    std::vector<std::size_t> updated;
+    std::vector<std::vector<std::uint32_t>> incident;
+    std::vector<int> alive_degree;
+    std::vector<char> alive;
+    std::size_t num_alive = 0;
+    bool stiffness_dirty = false;
+    // Recorded on first change: existing elements and matrix rows.
+    std::vector<char> element_recorded;
+    std::vector<std::pair<std::size_t, std::pair<ElementMaterial, Eigen::Matrix<double, 9, 18>>>> elements;
+    std::vector<char> row_recorded;
+    std::vector<std::pair<Eigen::Index, std::vector<std::pair<Eigen::Index, double>>>> rows;
+};
+
+FemModel::TrialSlot::TrialSlot() = default;
+FemModel::TrialSlot::TrialSlot(const TrialSlot&) {}
+FemModel::TrialSlot& FemModel::TrialSlot::operator=(const TrialSlot&) {
+    active = false;
+    return *this;
+}
+FemModel::TrialSlot::TrialSlot(TrialSlot&&) noexcept {}
+FemModel::TrialSlot& FemModel::TrialSlot::operator=(TrialSlot&&) noexcept {
+    active = false;
+    return *this;
+}
+FemModel::TrialSlot::~TrialSlot() = default;
+
+void FemModel::begin_trial() {
+    CRACKLE_ASSERT(!m_trial.active, "trials do not nest");
+    if (!m_trial.trial) m_trial.trial = std::make_unique<Trial>();
+    Trial& t = *m_trial.trial;
+    // Copy-assigned into the same buffers every time: no allocation once they are big enough.
+    t.faces = m_mesh.num_faces();
+    t.vertices = m_mesh.num_vertices();
+    t.mesh = m_mesh;
+    t.normal = m_normal;
+    t.thickness = m_thickness;
+    t.last_update = m_last_update;
+    t.x = m_x;
+    t.xdot = m_xdot;
+    t.updated = m_updated;
+    t.incident = m_incident;
+    t.alive_degree = m_alive_degree;
+    t.alive = m_alive;
+    t.num_alive = m_num_alive;
+    t.stiffness_dirty = m_stiffness_dirty_for_x;
+    t.element_recorded.assign(t.faces, 0);
+    t.elements.clear();
+    t.row_recorded.assign(static_cast<std::size_t>(m_K.rows()), 0);
+    t.rows.clear();
+    m_trial.active = true;
+}
+
+void FemModel::record_element(std::size_t f) {
+    if (!m_trial.active) return;
+    Trial& t = *m_trial.trial;
+    if (f >= t.faces || t.element_recorded[f]) return;
+    t.element_recorded[f] = 1;
+    t.elements.push_back({f, {m_material[f], m_k_top[f]}});
+}
+
+void FemModel::record_row(Eigen::Index row) {
+    if (!m_trial.active) return;
+    Trial& t = *m_trial.trial;
+    if (row >= static_cast<Eigen::Index>(t.row_recorded.size()) || t.row_recorded[static_cast<std::size_t>(row)])
+        return;
+    t.row_recorded[static_cast<std::size_t>(row)] = 1;
+    std::vector<std::pair<Eigen::Index, double>> entries;
+    for (SpMatR::InnerIterator it(m_K, row); it; ++it)
+        entries.emplace_back(it.col(), it.value());
+    t.rows.emplace_back(row, std::move(entries));
+}
+
+void FemModel::rollback() {
+    CRACKLE_ASSERT(m_trial.active, "rollback() without begin_trial()");
+    Trial& t = *m_trial.trial;
+    m_mesh = t.mesh;
+    m_normal = t.normal;
+    m_thickness = t.thickness;
+    m_last_update = t.last_update;
+    m_x = t.x;
+    m_xdot = t.xdot;
+    m_updated = t.updated;
+    m_incident = t.incident;
+    m_alive_degree = t.alive_degree;
+    m_alive = t.alive;
+    m_num_alive = t.num_alive;
+    m_stiffness_dirty_for_x = t.stiffness_dirty;
+    m_material.resize(t.faces);
+    m_k_top.resize(t.faces);
+    for (const auto& [f, saved] : t.elements) {
+        m_material[f] = saved.first;
+        m_k_top[f] = saved.second;
+    }
+    // Recorded rows get their old values back; entries added since (the pattern only grows)
+    // go to zero, and rows and columns of new vertices are cut off.
+    for (const auto& [row, entries] : t.rows) {
+        for (SpMatR::InnerIterator it(m_K, row); it; ++it)
+            it.valueRef() = 0.0;
+        for (const auto& [col, value] : entries)
+            m_K.coeffRef(row, col) = value;
+    }
+    const auto n = static_cast<Eigen::Index>(3 * t.vertices);
+    if (m_K.rows() > n) m_K.conservativeResize(n, n);
+    m_solver->invalidate(true);
+    m_trial.active = false;
+}
+
+void FemModel::commit() {
+    CRACKLE_ASSERT(m_trial.active, "commit() without begin_trial()");
+    m_trial.active = false;
+}
+
 // === Construction
 
 FemModel::FemModel(mesh::SurfaceMesh mesh, const mesh::Surface& surface, const GrowthField& growth,
                    const ShrinkageOptions& shrinkage, const LayerFields& fields, const FemOptions& options)
     : m_mesh(std::move(mesh)), m_surface(surface), m_growth(growth), m_shrinkage(shrinkage), m_fields(fields),
-      m_options(options), m_solver(std::make_unique<Solver>()) {
+      m_options(options), m_solver(options.solver) {
     CRACKLE_ASSERT(
         (fields.thickness || fields.vertex_thickness)
             && ((fields.young_modulus && fields.threshold_stress && fields.toughness) || fields.face_material),
         "every layer field must be given");
-    m_solver->kind = options.solver;
     const std::size_t nv = m_mesh.num_vertices(), nf = m_mesh.num_faces();
     m_normal.resize(nv);
     m_thickness.resize(nv);
@@ -117,6 +268,7 @@ void FemModel::init_vertex(std::size_t v) {
 }
 
 void FemModel::init_element(std::size_t f) {
+    record_element(f);
     const FaceId id = face_id(f);
     ElementMaterial& mat = m_material[f];
     if (m_fields.face_material) {
@@ -197,11 +349,147 @@ SpMatR FemModel::assemble_from_scratch() const {
 
 void FemModel::assemble() {
     m_K = assemble_from_scratch();
+    // Room for three more neighbours per row: splitting and cutting add entries locally.
+    m_K.reserve(Eigen::VectorXi::Constant(m_K.outerSize(), 27));
     m_stiffness_dirty_for_x = true;
     m_residual_floor = residual_floor(m_K, m_mesh);
     // Below ~60k unknowns a parallel mat-vec costs more in thread hand-offs than it saves
     // (measured: half the CG time went to libgomp's spin-wait at 6k unknowns).
     Eigen::setNbThreads(m_K.rows() < 60000 ? 1 : 0);
+}
+
+void FemModel::refresh_incidence(const std::vector<FaceId>& faces, const std::vector<std::size_t>& vertices) {
+    const std::size_t nv = m_mesh.num_vertices();
+    m_incident.resize(nv);
+    m_alive_degree.resize(nv, 0);
+    auto has = [&](std::uint32_t f, std::size_t v) {
+        for (VertexId w : m_mesh.faces[face_id(f)].v)
+            if (ix(w) == v) return true;
+        return false;
+    };
+    for (std::size_t v : vertices) {
+        auto& list = m_incident[v];
+        list.erase(std::remove_if(list.begin(), list.end(), [&](std::uint32_t f) { return !has(f, v); }), list.end());
+    }
+    for (FaceId f : faces)
+        for (VertexId w : m_mesh.faces[f].v) {
+            auto& list = m_incident[ix(w)];
+            if (std::find(list.begin(), list.end(), static_cast<std::uint32_t>(ix(f))) == list.end())
+                list.push_back(static_cast<std::uint32_t>(ix(f)));
+        }
+    for (FaceId f : faces)
+        for (VertexId w : m_mesh.faces[f].v) {
+            int degree = 0;
+            for (std::uint32_t g : m_incident[ix(w)])
+                degree += m_alive[g] != 0;
+            m_alive_degree[ix(w)] = degree;
+        }
+    for (std::size_t v : vertices) {
+        int degree = 0;
+        for (std::uint32_t g : m_incident[v])
+            degree += m_alive[g] != 0;
+        m_alive_degree[v] = degree;
+    }
+}
+
+void FemModel::reassemble_around(const std::vector<std::size_t>& vertices) {
+    // The rows (and, by symmetry, columns) of these vertices are rebuilt from their current
+    // elements (Alg. 7 generalised): exact, O(changed), no full assembly. The pattern only grows.
+    const auto n = static_cast<Eigen::Index>(3 * m_mesh.num_vertices());
+    if (m_K.rows() < n) m_K.conservativeResize(n, n);
+    // The new blocks: (a, b, K_ab) summed over the faces a and b share.
+    struct Block {
+        std::size_t a, b;
+        Mat3 K;
+    };
+    std::vector<Block> blocks;
+    for (std::size_t a : vertices) {
+        const std::size_t first = blocks.size();
+        for (std::uint32_t f : m_incident[a]) {
+            if (!m_alive[f]) continue;
+            const mesh::Face& face = m_mesh.faces[face_id(f)];
+            std::size_t ka = 3;
+            for (std::size_t k = 0; k < 3; ++k)
+                if (ix(face.v[k]) == a) ka = k;
+            for (std::size_t kb = 0; kb < 3; ++kb) {
+                const std::size_t b = ix(face.v[kb]);
+                const Mat3 K =
+                    m_k_top[f].block<3, 3>(static_cast<Eigen::Index>(3 * ka), 9 + static_cast<Eigen::Index>(3 * kb));
+                auto it = std::find_if(blocks.begin() + static_cast<std::ptrdiff_t>(first), blocks.end(),
+                                       [&](const Block& e) { return e.b == b; });
+                if (it == blocks.end())
+                    blocks.push_back({a, b, K});
+                else
+                    it->K += K;
+            }
+        }
+        if (m_alive_degree[a] == 0) blocks.push_back({a, a, Mat3::Identity()});
+    }
+    // Make room first, in one move: Eigen's one-at-a-time insertion reallocates everything.
+    {
+        std::vector<std::pair<Eigen::Index, Eigen::Index>> missing; // (row, col)
+        auto has = [&](Eigen::Index row, Eigen::Index col) {
+            for (SpMatR::InnerIterator it(m_K, row); it; ++it)
+                if (it.col() == col) return true;
+            return false;
+        };
+        for (const Block& bl : blocks)
+            for (int i = 0; i < 3; ++i) {
+                const auto ra = static_cast<Eigen::Index>(3 * bl.a) + i, rb = static_cast<Eigen::Index>(3 * bl.b) + i;
+                if (!has(ra, static_cast<Eigen::Index>(3 * bl.b))) missing.emplace_back(ra, 3);
+                if (!has(rb, static_cast<Eigen::Index>(3 * bl.a))) missing.emplace_back(rb, 3);
+            }
+        if (!missing.empty()) {
+            Eigen::VectorXi need = Eigen::VectorXi::Zero(m_K.outerSize());
+            for (const auto& [row, count] : missing)
+                need[row] += static_cast<int>(count);
+            bool short_of_room = m_K.isCompressed();
+            if (!short_of_room)
+                for (Eigen::Index r = 0; r < m_K.outerSize() && !short_of_room; ++r) {
+                    const Eigen::Index room =
+                        m_K.outerIndexPtr()[r + 1] - m_K.outerIndexPtr()[r] - m_K.innerNonZeroPtr()[r];
+                    short_of_room = need[r] > room;
+                }
+            if (short_of_room) {
+                for (Eigen::Index r = 0; r < need.size(); ++r)
+                    if (need[r] > 0) need[r] += 18; // slack for the next changes here
+                // Grow the storage geometrically, and only when it is full.
+                if (m_K.data().size() + need.sum() > m_K.data().allocatedSize())
+                    m_K.data().reserve(std::max<Eigen::Index>(need.sum(), m_K.data().size() / 2));
+                m_K.reserve(need);
+            }
+        }
+    }
+    if (m_trial.active) {
+        // Every row this touches: the vertices' own, their old and new neighbours'.
+        for (std::size_t a : vertices)
+            for (int i = 0; i < 3; ++i) {
+                const auto row = static_cast<Eigen::Index>(3 * a) + i;
+                if (row >= m_K.rows()) continue;
+                record_row(row);
+                for (SpMatR::InnerIterator it(m_K, row); it; ++it)
+                    record_row(it.col());
+            }
+        for (const Block& bl : blocks)
+            for (int i = 0; i < 3; ++i) {
+                record_row(static_cast<Eigen::Index>(3 * bl.a) + i);
+                record_row(static_cast<Eigen::Index>(3 * bl.b) + i);
+            }
+    }
+    for (std::size_t a : vertices)
+        for (int i = 0; i < 3; ++i) {
+            const auto row = static_cast<Eigen::Index>(3 * a) + i;
+            for (SpMatR::InnerIterator it(m_K, row); it; ++it) {
+                it.valueRef() = 0.0;
+                m_K.coeffRef(it.col(), row) = 0.0;
+            }
+        }
+    for (const Block& bl : blocks) {
+        set_block(bl.a, bl.b, bl.K);
+        set_block(bl.b, bl.a, bl.K.transpose());
+    }
+    m_stiffness_dirty_for_x = true;
+    m_solver->invalidate(true);
 }
 
 void FemModel::set_block(std::size_t a, std::size_t b, const Mat3& block) {
@@ -238,7 +526,7 @@ void FemModel::set_time(double t) {
         for (std::size_t f = 0; f < m_mesh.num_faces(); ++f)
             build_element_stiffness(f);
         assemble();
-        m_solver->update(m_K, false);
+        m_solver->invalidate(false);
         invalidate_residuals();
         log::debug("stiffness rebuilt at t = ", t, " (shrinkage top ", m_stiffness_s_top, ", bottom ",
                    m_stiffness_s_bot, ")");
@@ -424,6 +712,10 @@ SolveStats FemModel::solve(const Eigen::VectorXd& rhs, Eigen::VectorXd& x, doubl
         stats.seconds = timer.seconds();
         return stats;
     }
+    if (!m_solver->ready) {
+        m_solver->update(m_K, m_solver->pattern_dirty);
+        m_solver->pattern_dirty = false;
+    }
     if (m_solver->kind == SolverKind::Direct) {
         m_solver->factorize();
         x = m_solver->cholmod.solve(rhs);
@@ -456,6 +748,7 @@ SolveStats FemModel::relax_field(Unknown u) {
     const double tol = std::max(m_options.tolerance * load_norm(u), m_residual_floor);
     Eigen::VectorXd dx;
     SolveStats stats = solve(fd.residual, dx, tol);
+    if (stats.iterations > 0) stats.energy_release = 0.5 * fd.residual.dot(dx);
     const std::size_t nv = m_mesh.num_vertices();
     m_updated.resize(nv);
     for (std::size_t v = 0; v < nv; ++v) {
@@ -591,6 +884,7 @@ SolveStats FemModel::relax_field_local(Unknown u, const std::vector<std::size_t>
         if (ldlt.info() != Eigen::Success) throw NumericError("local stiffness matrix is not positive definite");
         const Eigen::VectorXd dx = ldlt.solve(rhs);
         stats.iterations += 1;
+        stats.energy_release += 0.5 * rhs.dot(dx);
         stats.nodes = std::max(stats.nodes, set.size());
 
         // === Apply: x_S += Δ; r −= K[:, S] Δ (K symmetric: walk the rows of S). The force
@@ -698,6 +992,18 @@ double FemModel::strain_energy() const {
     return e;
 }
 
+double FemModel::strain_energy(const std::vector<FaceId>& faces) const {
+    double e = 0;
+    for (FaceId f : faces) {
+        const std::size_t fi = ix(f);
+        if (!m_alive[fi]) continue;
+        const wedge::Nodes ref = reference_nodes_at(fi, m_stiffness_s_top, m_stiffness_s_bot);
+        const wedge::Vec18 q = displacement(fi);
+        e += 0.5 * q.dot(wedge::stiffness(ref, m_material[fi].young_modulus, m_fields.poisson_ratio) * q);
+    }
+    return e;
+}
+
 // === Topology
 
 void FemModel::remove_element(FaceId f) {
@@ -739,7 +1045,7 @@ void FemModel::remove_element(FaceId f) {
             if (va == vb && m_alive_degree[va] == 0) block = Mat3::Identity();
             set_block(va, vb, block);
         }
-    m_solver->update(m_K, false);
+    m_solver->invalidate(false);
     m_stiffness_dirty_for_x = true;
 }
 
@@ -748,43 +1054,59 @@ double FemModel::element_size(FaceId f) const {
     return std::max({(p[1] - p[0]).norm(), (p[2] - p[1]).norm(), (p[0] - p[2]).norm()});
 }
 
+mesh::NewVertex FemModel::point_on_edge(const mesh::SurfaceMesh& m, FaceId face, int edge, double t,
+                                        std::pair<Vec3, Vec3>& top_rate) const {
+    const mesh::Face& fc = m.faces[face];
+    const auto a = static_cast<std::size_t>(edge), b = static_cast<std::size_t>((edge + 1) % 3);
+    mesh::NewVertex nv;
+    Vec2i om = Vec2i::Zero();
+    if (m.periodic) {
+        // Along the edge in the unrolled domain, mapped onto the surface.
+        const Vec2 d = (1 - t) * m.corner_domain(face, edge) + t * m.corner_domain(face, (edge + 1) % 3);
+        nv.domain = Vec2(wrap(d.x(), m.period.x()), wrap(d.y(), m.period.y()));
+        nv.position = m_surface.position(nv.domain);
+        om = Vec2i(static_cast<int>(std::lround((d.x() - nv.domain.x()) / m.period.x())),
+                   static_cast<int>(std::lround((d.y() - nv.domain.y()) / m.period.y())));
+    } else {
+        nv.position =
+            m_surface.project((1 - t) * m.corner_position(face, edge) + t * m.corner_position(face, (edge + 1) % 3));
+    }
+    // The top node and its rate: interpolated in the face's periodic frame, then brought back.
+    top_rate.first = (1 - t) * (m_x.values[ix(fc.v[a])] + shift(fc.offset[a], m_time))
+                     + t * (m_x.values[ix(fc.v[b])] + shift(fc.offset[b], m_time)) - shift(om, m_time);
+    top_rate.second = (1 - t) * (m_xdot.values[ix(fc.v[a])] + shift_rate(fc.offset[a]))
+                      + t * (m_xdot.values[ix(fc.v[b])] + shift_rate(fc.offset[b])) - shift_rate(om);
+    return nv;
+}
+
 std::vector<FaceId> FemModel::subdivide(FaceId f) {
-    const mesh::MidpointRule where =
-        m_surface.periodic() ? mesh::domain_midpoint([this](const Vec2& d) { return m_surface.position(d); })
-                             : mesh::projected_midpoint([this](const Vec3& p) { return m_surface.project(p); });
-    // Each new vertex's top node starts at the midpoint of the split edge's top nodes, worked
-    // out in the split face's periodic frame before the split happens (and its rate likewise).
-    std::vector<std::pair<std::size_t, std::pair<Vec3, Vec3>>> new_tops; // vertex, (top, rate)
+    std::vector<std::pair<Vec3, Vec3>> tops; // per new vertex: (top, rate), in split order
     const mesh::MidpointRule rule = [&](const mesh::SurfaceMesh& m, FaceId face, int edge) {
-        const mesh::NewVertex nv = where(m, face, edge);
-        const mesh::Face& fc = m.faces[face];
-        const auto a = static_cast<std::size_t>(edge), b = static_cast<std::size_t>((edge + 1) % 3);
-        Vec2i om = Vec2i::Zero();
-        if (m.periodic) {
-            const Vec2 mid = 0.5 * (m.corner_domain(face, edge) + m.corner_domain(face, (edge + 1) % 3));
-            om = Vec2i(static_cast<int>(std::lround((mid.x() - nv.domain.x()) / m.period.x())),
-                       static_cast<int>(std::lround((mid.y() - nv.domain.y()) / m.period.y())));
-        }
-        const Vec3 top = 0.5
-                             * (m_x.values[ix(fc.v[a])] + shift(fc.offset[a], m_time) + m_x.values[ix(fc.v[b])]
-                                + shift(fc.offset[b], m_time))
-                         - shift(om, m_time);
-        const Vec3 rate = 0.5
-                              * (m_xdot.values[ix(fc.v[a])] + shift_rate(fc.offset[a]) + m_xdot.values[ix(fc.v[b])]
-                                 + shift_rate(fc.offset[b]))
-                          - shift_rate(om);
-        new_tops.push_back({m.num_vertices(), {top, rate}});
-        return nv;
+        tops.emplace_back();
+        return point_on_edge(m, face, edge, 0.5, tops.back());
     };
     std::vector<mesh::EdgeSplit> splits;
     mesh::rivara_bisect(m_mesh, f, rule, splits);
-    CRACKLE_ASSERT(new_tops.size() == splits.size(), "one new vertex per split");
+    return adopt_splits(splits, tops);
+}
 
+std::pair<VertexId, std::vector<FaceId>> FemModel::split_edge(FaceId f, int edge, double t) {
+    CRACKLE_ASSERT(t > 0 && t < 1, "split parameter " << t << " outside (0, 1)");
+    std::vector<std::pair<Vec3, Vec3>> tops(1);
+    const mesh::NewVertex nv = point_on_edge(m_mesh, f, edge, t, tops[0]);
+    const std::vector<mesh::EdgeSplit> splits{mesh::split_edge(m_mesh, f, edge, nv)};
+    std::vector<FaceId> touched = adopt_splits(splits, tops);
+    return {splits[0].vertex, std::move(touched)};
+}
+
+std::vector<FaceId> FemModel::adopt_splits(const std::vector<mesh::EdgeSplit>& splits,
+                                           const std::vector<std::pair<Vec3, Vec3>>& tops) {
+    CRACKLE_ASSERT(tops.size() == splits.size(), "one new vertex per split");
     std::vector<FaceId> touched;
     for (std::size_t i = 0; i < splits.size(); ++i) {
         const mesh::EdgeSplit& split = splits[i];
         const std::size_t v = ix(split.vertex);
-        CRACKLE_ASSERT(new_tops[i].first == v, "split order and vertex ids disagree");
+        CRACKLE_ASSERT(v == m_x.values.size(), "split order and vertex ids disagree");
         m_normal.emplace_back();
         m_thickness.emplace_back();
         m_x.values.emplace_back();
@@ -796,8 +1118,8 @@ std::vector<FaceId> FemModel::subdivide(FaceId f) {
                 fd->residual.tail<3>().setZero();
             }
         init_vertex(v);
-        m_x.values[v] = new_tops[i].second.first;
-        m_xdot.values[v] = new_tops[i].second.second;
+        m_x.values[v] = tops[i].first;
+        m_xdot.values[v] = tops[i].second;
         // Children: the kept id keeps the parent's status, the new id copies it.
         for (const auto& [kid, nid] : split.children) {
             const char status = m_alive[ix(kid)];
@@ -815,20 +1137,103 @@ std::vector<FaceId> FemModel::subdivide(FaceId f) {
     touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
     for (FaceId t : touched)
         init_element(ix(t));
-    rebuild_incidence();
-    assemble();
-    m_solver->update(m_K, true);
-    // Only the residuals at the refined faces' nodes change.
     std::vector<std::size_t> vertices;
     for (FaceId t : touched)
         for (VertexId w : m_mesh.faces[t].v)
             vertices.push_back(ix(w));
     std::sort(vertices.begin(), vertices.end());
     vertices.erase(std::unique(vertices.begin(), vertices.end()), vertices.end());
+    refresh_incidence(touched, vertices);
+    reassemble_around(vertices);
+    // Only the residuals at the refined faces' nodes change.
     recompute_residual_at(Unknown::Position, vertices);
     recompute_residual_at(Unknown::Rate, vertices);
     m_x.load_norm = m_xdot.load_norm = -1;
     return touched;
+}
+
+mesh::NewVertex FemModel::edge_point(FaceId f, int edge, double t, Vec3* top, Vec3* rate) const {
+    std::pair<Vec3, Vec3> tr;
+    const mesh::NewVertex nv = point_on_edge(m_mesh, f, edge, t, tr);
+    if (top) *top = tr.first;
+    if (rate) *rate = tr.second;
+    return nv;
+}
+
+void FemModel::move_vertex(VertexId v, const mesh::NewVertex& to, const Vec3& top, const Vec3& rate) {
+    const std::size_t vi = ix(v);
+    if (m_mesh.periodic) {
+        // Each face keeps v's corner where it was in its own frame, moved by the same step.
+        Vec2 step = to.domain - m_mesh.domain[v];
+        for (int i = 0; i < 2; ++i)
+            step[i] -= m_mesh.period[i] * std::round(step[i] / m_mesh.period[i]);
+        for (std::uint32_t f : m_incident[vi]) {
+            mesh::Face& face = m_mesh.faces[face_id(f)];
+            for (std::size_t k = 0; k < 3; ++k) {
+                if (face.v[k] != v) continue;
+                const Vec2 unwrapped = m_mesh.corner_domain(face_id(f), static_cast<int>(k)) + step;
+                face.offset[k] =
+                    Vec2i(static_cast<int>(std::lround((unwrapped.x() - to.domain.x()) / m_mesh.period.x())),
+                          static_cast<int>(std::lround((unwrapped.y() - to.domain.y()) / m_mesh.period.y())));
+            }
+        }
+        m_mesh.domain[v] = to.domain;
+    }
+    m_mesh.positions[v] = to.position;
+    const Vec3 keep_top = top;
+    init_vertex(vi); // normal and thickness at the new place
+    m_x.values[vi] = keep_top;
+    m_xdot.values[vi] = rate;
+    std::vector<std::size_t> vertices;
+    for (std::uint32_t f : m_incident[vi]) {
+        init_element(f);
+        for (VertexId w : m_mesh.faces[face_id(f)].v)
+            vertices.push_back(ix(w));
+    }
+    std::sort(vertices.begin(), vertices.end());
+    vertices.erase(std::unique(vertices.begin(), vertices.end()), vertices.end());
+    reassemble_around(vertices);
+    recompute_residual_at(Unknown::Position, vertices);
+    recompute_residual_at(Unknown::Rate, vertices);
+    m_x.load_norm = m_xdot.load_norm = -1;
+}
+
+std::vector<VertexId> FemModel::cut(const std::vector<std::array<char, 3>>& marks) {
+    const std::size_t nv_before = m_mesh.num_vertices();
+    std::vector<VertexId> origin = mesh::cut_along(m_mesh, marks);
+    const std::size_t nv = m_mesh.num_vertices();
+    if (nv == nv_before) {
+        // Nothing opened (a cut with both ends inside the mesh): the topology is unchanged.
+        return origin;
+    }
+    // Copies inherit everything per vertex; the faces moved to them change nothing else.
+    std::vector<std::size_t> vertices;
+    std::vector<FaceId> faces;
+    for (std::size_t v = nv_before; v < nv; ++v) {
+        const std::size_t o = ix(origin[v]);
+        m_normal.push_back(m_normal[o]);
+        m_thickness.push_back(m_thickness[o]);
+        m_x.values.push_back(m_x.values[o]);
+        m_xdot.values.push_back(m_xdot.values[o]);
+        m_last_update.push_back(0.0);
+        for (Field* fd : {&m_x, &m_xdot})
+            if (fd->residual_valid) {
+                fd->residual.conservativeResize(fd->residual.size() + 3);
+                fd->residual.tail<3>().setZero();
+            }
+        vertices.push_back(o);
+        vertices.push_back(v);
+        for (std::uint32_t f : m_incident[o])
+            faces.push_back(face_id(f)); // the origin's faces, some now at the copy
+    }
+    std::sort(vertices.begin(), vertices.end());
+    vertices.erase(std::unique(vertices.begin(), vertices.end()), vertices.end());
+    refresh_incidence(faces, vertices);
+    reassemble_around(vertices);
+    recompute_residual_at(Unknown::Position, vertices);
+    recompute_residual_at(Unknown::Rate, vertices);
+    m_x.load_norm = m_xdot.load_norm = -1;
+    return origin;
 }
 
 } // namespace crackle::sim

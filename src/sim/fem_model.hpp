@@ -17,6 +17,7 @@
 /// whenever the shrinkage scale has moved by more than `stiffness_refresh` since the last
 /// build (digest §1.10 [I]).
 
+#include "mesh/refine.hpp"
 #include "mesh/surface.hpp"
 #include "mesh/surface_mesh.hpp"
 #include "sim/growth_field.hpp"
@@ -70,6 +71,9 @@ struct SolveStats {
     double seconds = 0;
     std::size_t nodes = 0;  ///< nodes solved for (all, or the local set)
     bool fell_back = false; ///< a local relaxation that had to solve globally
+    /// Strain energy the solve released (J): ½ rᵀΔx, exact for each linear solve (the energy is
+    /// quadratic in the top positions). Meaningful for positions, not rates.
+    double energy_release = 0;
 };
 
 /// Adaptive local relaxation (Federl 2002, §5.8; digest §3.10): after a local change, solve
@@ -91,8 +95,12 @@ public:
     FemModel(mesh::SurfaceMesh mesh, const mesh::Surface& surface, const GrowthField& growth,
              const ShrinkageOptions& shrinkage, const LayerFields& fields, const FemOptions& options = {});
     ~FemModel();
-    FemModel(const FemModel&) = delete;
-    FemModel& operator=(const FemModel&) = delete;
+    /// Copies are whole snapshots (fem-split rolls back rejected crack extensions with one);
+    /// the copy's solver is rebuilt on its first solve.
+    FemModel(const FemModel&) = default;
+    FemModel& operator=(const FemModel&) = default;
+    FemModel(FemModel&&) = default;
+    FemModel& operator=(FemModel&&) = default;
 
     // === State
     const mesh::SurfaceMesh& mesh() const { return m_mesh; }
@@ -165,6 +173,8 @@ public:
     double stress_ratio(mesh::FaceId f) const;
     /// ½ Σ qᵀ K q over the alive elements (J).
     double strain_energy() const;
+    /// The same over some elements only (the dead ones count zero).
+    double strain_energy(const std::vector<mesh::FaceId>& faces) const;
 
     // === Topology (§5.6.3–5.6.4)
     /// Removes an element: zeroes its blocks and re-adds the remaining elements' share of
@@ -174,6 +184,29 @@ public:
     /// averages (§5.9) and stiffness; new top nodes start at the midpoints. Returns every face
     /// created or changed.
     std::vector<mesh::FaceId> subdivide(mesh::FaceId f);
+    /// Splits edge `edge` of `f` (and the face across it) at parameter t ∈ (0, 1) from the
+    /// edge's first corner: a new vertex on the background surface, its top node interpolated
+    /// between the edge's top nodes. Returns the new vertex and every face created or changed.
+    std::pair<mesh::VertexId, std::vector<mesh::FaceId>> split_edge(mesh::FaceId f, int edge, double t);
+    /// Opens cracks along marked edges (`marks[f][k]`, both sides alike): vertices on a crack
+    /// are duplicated so the faces on either side no longer share the edge (mesh::cut_along);
+    /// copies inherit position, top node and rate. Returns the origin of every vertex.
+    std::vector<mesh::VertexId> cut(const std::vector<std::array<char, 3>>& marks);
+    /// Moves vertex v's background point to `to` (same topology; periodic offsets of its faces
+    /// follow), its top node and rate to the given values; rebuilds its elements. This is the
+    /// thesis' edge collapse onto a fracture plane (§5.7.5) seen from the surviving vertex.
+    void move_vertex(mesh::VertexId v, const mesh::NewVertex& to, const Vec3& top, const Vec3& rate);
+    /// The point at parameter t of a face's edge (as split_edge would place it) and its
+    /// interpolated top node and rate, in the point's canonical frame.
+    mesh::NewVertex edge_point(mesh::FaceId f, int edge, double t, Vec3* top = nullptr, Vec3* rate = nullptr) const;
+    /// Starts a trial: every change from here on (topology, stiffness, positions) can be undone
+    /// by rollback() — fem-split's Griffith test of a tip extension (Alg. 11) — at the cost of
+    /// copying the per-vertex state and recording the elements and matrix rows that change.
+    void begin_trial();
+    /// Undoes everything since begin_trial().
+    void rollback();
+    /// Keeps the changes since begin_trial().
+    void commit();
     /// Longest edge of the element's bottom triangle at t = 0 (m).
     double element_size(mesh::FaceId f) const;
 
@@ -201,6 +234,11 @@ private:
     void build_element_stiffness(std::size_t f);
     void assemble();
     void rebuild_incidence();
+    /// Incidence and alive degrees after `faces` changed; `vertices` lists every vertex that
+    /// may have lost a face.
+    void refresh_incidence(const std::vector<mesh::FaceId>& faces, const std::vector<std::size_t>& vertices);
+    /// Rebuilds the rows and columns of K at these vertices from their elements.
+    void reassemble_around(const std::vector<std::size_t>& vertices);
     Vec3 shift(const Vec2i& offset, double t) const;
     Vec3 shift_rate(const Vec2i& offset) const;
     wedge::Nodes reference_nodes_at(std::size_t f, double s_top, double s_bot) const;
@@ -253,7 +291,40 @@ private:
     std::vector<Eigen::Matrix<double, 9, 18>> m_k_top; // rows of K_e for the top nodes
 
     Eigen::SparseMatrix<double, Eigen::RowMajor> m_K;
-    std::unique_ptr<Solver> m_solver;
+    /// Owns the solver; a copy starts with a fresh one of the same kind, set up on first use.
+    struct SolverSlot {
+        std::unique_ptr<Solver> solver;
+        explicit SolverSlot(SolverKind kind);
+        SolverSlot(const SolverSlot& other);
+        SolverSlot& operator=(const SolverSlot& other);
+        SolverSlot(SolverSlot&&) noexcept;
+        SolverSlot& operator=(SolverSlot&&) noexcept;
+        ~SolverSlot();
+        Solver* operator->() const { return solver.get(); }
+    };
+    SolverSlot m_solver;
+    /// What a trial must restore; copies of the model start without one.
+    struct Trial;
+    struct TrialSlot {
+        std::unique_ptr<Trial> trial;
+        bool active = false;
+        TrialSlot();
+        TrialSlot(const TrialSlot&);
+        TrialSlot& operator=(const TrialSlot&);
+        TrialSlot(TrialSlot&&) noexcept;
+        TrialSlot& operator=(TrialSlot&&) noexcept;
+        ~TrialSlot();
+    };
+    TrialSlot m_trial;
+    void record_element(std::size_t f);
+    void record_row(Eigen::Index row);
+    /// Adopts the vertices and faces that mesh-level splits created (subdivide, split_edge);
+    /// `tops` holds each new vertex's (top, rate).
+    std::vector<mesh::FaceId> adopt_splits(const std::vector<mesh::EdgeSplit>& splits,
+                                           const std::vector<std::pair<Vec3, Vec3>>& tops);
+    /// The new vertex at parameter t of a face's edge, and its interpolated (top, rate).
+    mesh::NewVertex point_on_edge(const mesh::SurfaceMesh& m, mesh::FaceId face, int edge, double t,
+                                  std::pair<Vec3, Vec3>& top_rate) const;
 };
 
 } // namespace crackle::sim

@@ -1,0 +1,675 @@
+#include "fracture/fem_split.hpp"
+
+#include "core/error.hpp"
+#include "core/log.hpp"
+#include "core/progress.hpp"
+#include "core/timer.hpp"
+#include "fracture/stress_cache.hpp"
+
+#include <Eigen/Eigenvalues>
+
+#include <algorithm>
+#include <cmath>
+#include <deque>
+#include <limits>
+#include <map>
+
+namespace crackle::fracture {
+
+using mesh::face_id;
+using mesh::FaceId;
+using mesh::ix;
+using mesh::vertex_id;
+using mesh::VertexId;
+
+namespace {
+
+/// Corner index of vertex v in face f (−1 if absent).
+int corner_of(const mesh::SurfaceMesh& m, std::size_t f, std::size_t v) {
+    const mesh::Face& face = m.faces[face_id(f)];
+    for (int k = 0; k < 3; ++k)
+        if (ix(face.v[static_cast<std::size_t>(k)]) == v) return k;
+    return -1;
+}
+
+/// The in-surface principal stress of a nodal tensor (§5.7.1–5.7.2): the 3D stress projected
+/// on the current tangent plane, its largest eigenvalue, and the crack direction normal to it
+/// (in the plane), mapped back to t = 0 by the inverse growth map.
+NodalStress principal_in_surface(const sim::FemModel& model, std::size_t v, const Mat3& sigma) {
+    const Mat3 G = Mat3::Identity() + model.time() * model.growth().tensor();
+    const Vec3& p0 = model.mesh().positions[vertex_id(v)];
+    const mesh::TangentFrame fr = model.surface().frame(p0);
+    const Vec3 n = (G.inverse().transpose() * fr.n).normalized();
+    Vec3 e1 = G * fr.e_u;
+    e1 = (e1 - e1.dot(n) * n).normalized();
+    const Vec3 e2 = n.cross(e1);
+    Mat2 T;
+    T << e1.dot(sigma * e1), e1.dot(sigma * e2), e2.dot(sigma * e1), e2.dot(sigma * e2);
+    Eigen::SelfAdjointEigenSolver<Mat2> eig(T);
+    const Vec2 d = eig.eigenvectors().col(1);
+    const Vec3 normal_dir = d.x() * e1 + d.y() * e2;
+    NodalStress out;
+    out.ratio = eig.eigenvalues()[1];
+    out.crack = (G.inverse() * n.cross(normal_dir)).normalized();
+    return out;
+}
+
+/// Nodal stress tensor and material means, from any per-face top-stress source.
+template <class StressOf> NodalStress nodal_from(const sim::FemModel& model, std::size_t v, StressOf&& stress_of) {
+    Mat3 sigma = Mat3::Zero();
+    double thr = 0, kic = 0, young = 0;
+    int count = 0;
+    for (std::uint32_t f : model.incident_faces(v)) {
+        if (!model.alive(face_id(f))) continue;
+        const int k = corner_of(model.mesh(), f, v);
+        sigma += sim::wedge::tensor(stress_of(f)[static_cast<std::size_t>(k)]);
+        const auto& mat = model.material(face_id(f));
+        thr += mat.threshold_stress;
+        kic += mat.toughness;
+        young += mat.young_modulus;
+        ++count;
+    }
+    if (count == 0) return {};
+    NodalStress out = principal_in_surface(model, v, sigma / count);
+    out.threshold = thr / count;
+    out.toughness = kic / count;
+    out.young = young / count;
+    out.ratio /= out.threshold;
+    return out;
+}
+
+/// 2D coordinates of a face's corners around one of its corners, in the frame of the surface
+/// at t = 0: the unrolled domain on periodic surfaces, the tangent plane at the corner on the
+/// sphere.
+std::array<Vec2, 3> local_corners(const sim::FemModel& model, std::size_t f, int k0, const mesh::TangentFrame& fr) {
+    const mesh::SurfaceMesh& m = model.mesh();
+    std::array<Vec2, 3> out;
+    for (int k = 0; k < 3; ++k) {
+        if (m.periodic) {
+            out[static_cast<std::size_t>(k)] = m.corner_domain(face_id(f), k) - m.corner_domain(face_id(f), k0);
+        } else {
+            const Vec3 d = m.corner_position(face_id(f), k) - m.corner_position(face_id(f), k0);
+            out[static_cast<std::size_t>(k)] = Vec2(d.dot(fr.e_u), d.dot(fr.e_v));
+        }
+    }
+    return out;
+}
+
+double cross2(const Vec2& a, const Vec2& b) {
+    return a.x() * b.y() - a.y() * b.x();
+}
+
+/// Where a ray from vertex v leaves the fan of its alive faces: face, edge (opposite v) and
+/// the parameter along that edge from its first corner.
+struct RayHit {
+    std::size_t face = 0;
+    int edge = -1;
+    double t = 0;
+};
+
+bool cast_ray(const sim::FemModel& model, std::size_t v, const Vec3& direction0, RayHit& hit) {
+    const mesh::SurfaceMesh& m = model.mesh();
+    const mesh::TangentFrame fr = model.surface().frame(m.positions[vertex_id(v)]);
+    const Vec2 d = Vec2(direction0.dot(fr.e_u), direction0.dot(fr.e_v)).normalized();
+    double best = std::numeric_limits<double>::infinity();
+    bool found = false;
+    for (std::uint32_t f : model.incident_faces(v)) {
+        if (!model.alive(face_id(f))) continue;
+        const int k = corner_of(m, f, v);
+        const auto c = local_corners(model, f, k, fr);
+        const Vec2 B = c[static_cast<std::size_t>((k + 1) % 3)], C = c[static_cast<std::size_t>((k + 2) % 3)];
+        // s·d = B + τ(C − B): Cramer's rule.
+        const Vec2 e = C - B;
+        const double det = cross2(d, e);
+        if (std::abs(det) < 1e-300) continue;
+        const double s = cross2(B, e) / det; // distance along the ray
+        const double tau = cross2(B, d) / det;
+        if (s <= 0 || tau < -1e-9 || tau > 1 + 1e-9) continue;
+        // Several faces can claim a ray through a shared vertex; keep the nearest exit.
+        if (s < best) {
+            best = s;
+            hit.face = f;
+            hit.edge = (k + 1) % 3;
+            hit.t = std::clamp(tau, 0.0, 1.0);
+            found = true;
+        }
+    }
+    return found;
+}
+
+/// Smallest angle of a triangle (degrees).
+double min_angle(const Vec3& a, const Vec3& b, const Vec3& c) {
+    auto angle = [](const Vec3& p, const Vec3& q, const Vec3& r) {
+        const Vec3 u = q - p, w = r - p;
+        return std::atan2(u.cross(w).norm(), u.dot(w)) * RAD_TO_DEG;
+    };
+    return std::min({angle(a, b, c), angle(b, c, a), angle(c, a, b)});
+}
+
+/// True if vertex v lies on a crack or the mesh border: some face edge at v has no neighbour.
+bool on_border(const sim::FemModel& model, std::size_t v) {
+    const mesh::SurfaceMesh& m = model.mesh();
+    for (std::uint32_t f : model.incident_faces(v)) {
+        const int k = corner_of(m, f, v);
+        for (int e : {k, (k + 2) % 3})
+            if (m.neighbor(face_id(f), e).face == mesh::NO_FACE) return true;
+    }
+    return false;
+}
+
+/// A crack tip: a vertex on exactly one crack edge, i.e. two border edges at it whose far
+/// ends are copies of one point (the two lips of a slit).
+bool is_tip(const sim::FemModel& model, std::size_t v) {
+    const mesh::SurfaceMesh& m = model.mesh();
+    std::vector<Vec3> far;
+    for (std::uint32_t f : model.incident_faces(v)) {
+        const int k = corner_of(m, f, v);
+        if (m.neighbor(face_id(f), k).face == mesh::NO_FACE)
+            far.push_back(m.positions[m.faces[face_id(f)].v[static_cast<std::size_t>((k + 1) % 3)]]);
+        if (m.neighbor(face_id(f), (k + 2) % 3).face == mesh::NO_FACE)
+            far.push_back(m.positions[m.faces[face_id(f)].v[static_cast<std::size_t>((k + 2) % 3)]]);
+    }
+    return far.size() == 2 && far[0] == far[1];
+}
+
+/// The loop's state.
+class Splitter {
+public:
+    Splitter(sim::FemModel& model, const FractureOptions& options, const SplitOptions& split, Rng& rng, RunStats& stats)
+        : m_model(model), m_options(options), m_split(split), m_rng(rng), m_stats(stats), m_cache(model) {
+        double h = 0;
+        for (std::size_t v = 0; v < model.mesh().num_vertices(); ++v)
+            h += model.vertex_thickness(vertex_id(v));
+        h /= static_cast<double>(std::max<std::size_t>(model.mesh().num_vertices(), 1));
+        m_exclusion = split.exclusion_radius >= 0 ? split.exclusion_radius : h;
+        m_radius = initial_radius(model, m_local.tolerance);
+        m_rate_radius = m_radius;
+    }
+
+    std::vector<Event> run(bool& capped);
+
+private:
+    // === Cutting
+    struct CutEnd {
+        std::size_t vertex = 0;
+        bool ok = false;
+    };
+    CutEnd cut_towards(std::size_t v, const Vec3& direction, std::vector<FaceId>& touched);
+    /// Opens the crack along edges (pairs of vertices); false if nothing could open (a slit
+    /// with both ends inside intact material).
+    bool open_edges(const std::vector<std::pair<std::size_t, std::size_t>>& edges, std::vector<FaceId>& touched);
+
+    // === Steps
+    bool extend_tip(std::size_t tip, Event& ev);
+    bool start_fracture(std::size_t v, double ratio, Event& ev);
+    /// Relaxes around the faces; returns the vertices that moved. `released` gets the strain
+    /// energy the relaxation released.
+    std::vector<std::size_t> relax_near(const std::vector<FaceId>& faces, double* released = nullptr);
+    void refresh_after(const std::vector<FaceId>& touched, const std::vector<std::size_t>& moved);
+    bool excluded(std::size_t v) const;
+    bool pick_node(std::size_t& node, double& ratio);
+    void advance_time();
+
+    sim::FemModel& m_model;
+    const FractureOptions& m_options;
+    const SplitOptions& m_split;
+    Rng& m_rng;
+    RunStats& m_stats;
+    StressCache m_cache;
+    sim::LocalRelaxOptions m_local;
+    double m_radius = 4, m_rate_radius = 4, m_exclusion = 0.01, m_last_step = 1e-3;
+    std::deque<std::size_t> m_tips;
+    std::vector<Vec3> m_zones; // reference positions of arrested tips
+    std::vector<std::size_t> m_rate_seeds;
+};
+
+std::vector<std::size_t> Splitter::relax_near(const std::vector<FaceId>& faces, double* released) {
+    Timer timer;
+    std::vector<std::size_t> seeds;
+    for (FaceId f : faces)
+        for (VertexId w : m_model.mesh().faces[f].v)
+            seeds.push_back(ix(w));
+    std::sort(seeds.begin(), seeds.end());
+    seeds.erase(std::unique(seeds.begin(), seeds.end()), seeds.end());
+    const sim::SolveStats s =
+        m_options.local_relaxation ? m_model.relax_local(seeds, m_radius, m_local) : m_model.relax();
+    if (released) *released = s.energy_release;
+    m_stats.solver_iterations += s.iterations;
+    ++m_stats.solves;
+    if (m_options.local_relaxation) {
+        ++m_stats.local_solves;
+        m_stats.local_nodes += s.nodes;
+        m_stats.local_fallbacks += s.fell_back;
+    }
+    m_rate_seeds.insert(m_rate_seeds.end(), seeds.begin(), seeds.end());
+    m_stats.solve_seconds += timer.seconds();
+    return m_model.last_updated_vertices();
+}
+
+void Splitter::refresh_after(const std::vector<FaceId>& touched, const std::vector<std::size_t>& moved) {
+    Timer timer;
+    m_cache.resize();
+    for (FaceId f : touched)
+        m_cache.refresh(ix(f));
+    m_cache.refresh_around(moved);
+    m_stats.stress_seconds += timer.seconds();
+}
+
+Splitter::CutEnd Splitter::cut_towards(std::size_t v, const Vec3& direction, std::vector<FaceId>& touched) {
+    CutEnd end;
+    RayHit hit;
+    if (!cast_ray(m_model, v, direction, hit)) return end;
+    const mesh::SurfaceMesh& m = m_model.mesh();
+    const FaceId f = face_id(hit.face);
+    const int kb = hit.edge, kc = (hit.edge + 1) % 3, kv = (hit.edge + 2) % 3;
+    const std::size_t b = ix(m.faces[f].v[static_cast<std::size_t>(kb)]);
+    const std::size_t c = ix(m.faces[f].v[static_cast<std::size_t>(kc)]);
+    // Would the split leave slivers? Check the four new triangles at t = 0.
+    const Vec3 V = m.corner_position(f, kv), B = m.corner_position(f, kb), C = m.corner_position(f, kc);
+    const Vec3 P = (1 - hit.t) * B + hit.t * C;
+    double worst = std::min(min_angle(V, B, P), min_angle(V, P, C));
+    const mesh::FaceNeighbor nb = m.neighbor(f, hit.edge);
+    if (nb.face != mesh::NO_FACE) {
+        const Vec3 W = m.corner_position(nb.face, (nb.edge + 2) % 3);
+        const Vec3 Bn = m.corner_position(nb.face, (nb.edge + 1) % 3), Cn = m.corner_position(nb.face, nb.edge);
+        const Vec3 Pn = (1 - hit.t) * Bn + hit.t * Cn;
+        worst = std::min({worst, min_angle(W, Bn, Pn), min_angle(W, Pn, Cn)});
+    }
+    const bool near_vertex = hit.t < m_split.snap_fraction || hit.t > 1 - m_split.snap_fraction;
+    if (!near_vertex && worst >= m_split.min_angle_deg) {
+        const auto [nv, faces] = m_model.split_edge(f, hit.edge, hit.t);
+        touched.insert(touched.end(), faces.begin(), faces.end());
+        end.vertex = ix(nv);
+        end.ok = true;
+        return end;
+    }
+    // Edge collapse seen from the survivor (§5.7.5): move the nearer vertex onto the plane if it
+    // is free (not on a crack) and its elements stay well shaped; else cut through it as it is.
+    const bool to_b = hit.t < 0.5;
+    const std::size_t x = to_b ? b : c;
+    if (!on_border(m_model, x)) {
+        Vec3 top, rate;
+        const mesh::NewVertex target = m_model.edge_point(f, hit.edge, hit.t, &top, &rate);
+        const Vec3 step = P - (to_b ? B : C);
+        bool fine = true;
+        for (std::uint32_t g : m_model.incident_faces(x)) {
+            const int kx = corner_of(m, g, x);
+            std::array<Vec3, 3> q;
+            for (int k = 0; k < 3; ++k)
+                q[static_cast<std::size_t>(k)] = m.corner_position(face_id(g), k);
+            const Vec3 n_before = (q[1] - q[0]).cross(q[2] - q[0]);
+            q[static_cast<std::size_t>(kx)] += step;
+            const Vec3 n_after = (q[1] - q[0]).cross(q[2] - q[0]);
+            if (n_after.dot(n_before) <= 0 || min_angle(q[0], q[1], q[2]) < 0.5 * m_split.min_angle_deg) {
+                fine = false;
+                break;
+            }
+        }
+        if (fine) {
+            m_model.move_vertex(vertex_id(x), target, top, rate);
+            for (std::uint32_t g : m_model.incident_faces(x))
+                touched.push_back(face_id(g));
+            ++m_stats.collapses;
+            end.vertex = x;
+            end.ok = true;
+            return end;
+        }
+    }
+    ++m_stats.snaps;
+    end.vertex = x;
+    end.ok = true;
+    return end;
+}
+
+bool Splitter::open_edges(const std::vector<std::pair<std::size_t, std::size_t>>& edges, std::vector<FaceId>& touched) {
+    const mesh::SurfaceMesh& m = m_model.mesh();
+    std::vector<std::array<char, 3>> marks(m.num_faces(), {0, 0, 0});
+    for (const auto& [a, b] : edges)
+        for (std::uint32_t f : m_model.incident_faces(a)) {
+            const mesh::Face& face = m.faces[face_id(f)];
+            for (int k = 0; k < 3; ++k) {
+                const std::size_t p = ix(face.v[static_cast<std::size_t>(k)]);
+                const std::size_t q = ix(face.v[static_cast<std::size_t>((k + 1) % 3)]);
+                if ((p == a && q == b) || (p == b && q == a)) {
+                    marks[f][static_cast<std::size_t>(k)] = 1;
+                    touched.push_back(face_id(f));
+                }
+            }
+        }
+    const std::size_t nv_before = m.num_vertices();
+    m_model.cut(marks);
+    // Faces moved onto new copies changed their nodes: refresh them too.
+    for (std::size_t v = nv_before; v < m_model.mesh().num_vertices(); ++v)
+        for (std::uint32_t f : m_model.incident_faces(v))
+            touched.push_back(face_id(f));
+    return m_model.mesh().num_vertices() > nv_before;
+}
+
+bool Splitter::start_fracture(std::size_t v, double ratio, Event& ev) {
+    Timer timer;
+    const NodalStress ns = nodal_from(m_model, v, [&](std::size_t f) { return m_cache.stress(f); });
+    std::vector<FaceId> touched;
+    const Vec3 p0 = m_model.mesh().positions[vertex_id(v)];
+    // Both ways from the node (§5.7.2): two straddling elements, two new tips.
+    std::vector<std::pair<std::size_t, std::size_t>> edges;
+    std::vector<std::size_t> ends;
+    for (double sign : {1.0, -1.0}) {
+        const CutEnd e = cut_towards(v, sign * ns.crack, touched);
+        if (e.ok && e.vertex != v) {
+            edges.emplace_back(v, e.vertex);
+            ends.push_back(e.vertex);
+        }
+    }
+    if (edges.empty() || !open_edges(edges, touched)) {
+        // Nothing opened: refresh what the cutting changed; the caller fences the node off.
+        m_stats.topology_seconds += timer.seconds();
+        refresh_after(touched, relax_near(touched));
+        return false;
+    }
+    m_stats.topology_seconds += timer.seconds();
+    const std::vector<std::size_t> moved = relax_near(touched);
+    refresh_after(touched, moved);
+    for (std::size_t e : ends)
+        if (is_tip(m_model, e)) m_tips.push_back(e);
+    ev.time = m_model.time();
+    ev.position = p0;
+    ev.kind = "split";
+    ev.ratio = ratio;
+    ++m_stats.splits;
+    return true;
+}
+
+bool Splitter::extend_tip(std::size_t tip, Event& ev) {
+    if (tip >= m_model.mesh().num_vertices() || !is_tip(m_model, tip)) return false;
+    const NodalStress ns = nodal_from(m_model, tip, [&](std::size_t f) { return m_cache.stress(f); });
+    if (ns.threshold <= 0) return false;
+    // Onwards: away from the crack behind the tip (its lips' far ends).
+    const mesh::SurfaceMesh& m = m_model.mesh();
+    Vec3 behind = Vec3::Zero();
+    for (std::uint32_t f : m_model.incident_faces(tip)) {
+        const int k = corner_of(m, f, tip);
+        if (m.neighbor(face_id(f), k).face == mesh::NO_FACE)
+            behind = m.corner_position(face_id(f), (k + 1) % 3) - m.corner_position(face_id(f), k);
+    }
+    Vec3 dir = ns.crack;
+    if (dir.dot(behind) > 0) dir = -dir;
+    if (!m_split.griffith && ns.ratio < 1.0) return false;
+
+    Timer timer;
+    // A trial, so a rejected extension rolls back exactly (digest §3.9.4 caveat 2). The stress
+    // cache is refreshed only once an extension is accepted, so it needs no undo.
+    const bool trial = m_split.griffith;
+    if (trial) m_model.begin_trial();
+    std::vector<FaceId> touched;
+    const CutEnd end = cut_towards(tip, dir, touched);
+    if (!end.ok || end.vertex == tip) {
+        if (trial)
+            m_model.rollback();
+        else if (!touched.empty())
+            refresh_after(touched, relax_near(touched));
+        return false;
+    }
+    const Vec3 a0 = m_model.bottom_position(vertex_id(tip)), b0 = m_model.bottom_position(vertex_id(end.vertex));
+    const double area = (b0 - a0).norm() * 0.5
+                        * (m_model.vertex_thickness(vertex_id(tip)) + m_model.vertex_thickness(vertex_id(end.vertex)));
+    const bool opened = open_edges({{tip, end.vertex}}, touched);
+    m_stats.topology_seconds += timer.seconds();
+    if (!opened) {
+        // The cut ran along an edge that was already cracked: the tip has nowhere to go.
+        if (trial)
+            m_model.rollback();
+        else
+            refresh_after(touched, relax_near(touched));
+        return false;
+    }
+    double released = 0;
+    const std::vector<std::size_t> moved = relax_near(touched, &released);
+
+    if (m_split.griffith) {
+        // Alg. 11 with the physical ½F·u (digest caveat 1): cutting at fixed positions keeps
+        // the strain energy (a duplicated node, an edge split at a linearly interpolated node),
+        // so what the cut releases is what the relaxation after it releases, ½ rᵀΔx, exact for
+        // the linear solves and local to the change (tests compare it with the energy sums).
+        timer.reset();
+        const double G = released / std::max(area, 1e-300);
+        const double nu = m_model.poisson_ratio();
+        const double G_ic = (1 - nu * nu) * sqr(ns.toughness) / ns.young;
+        m_stats.stress_seconds += timer.seconds();
+        if (!(G > G_ic)) {
+            m_model.rollback();
+            m_zones.push_back(m_model.mesh().positions[vertex_id(tip)]);
+            ++m_stats.arrests;
+            return false;
+        }
+    }
+    if (trial) m_model.commit();
+    refresh_after(touched, moved);
+    if (is_tip(m_model, end.vertex)) m_tips.push_back(end.vertex);
+    ev.time = m_model.time();
+    ev.position = m_model.mesh().positions[vertex_id(end.vertex)];
+    ev.kind = "extend";
+    ev.ratio = ns.ratio;
+    ++m_stats.extensions;
+    return true;
+}
+
+bool Splitter::excluded(std::size_t v) const {
+    const Vec3& p = m_model.mesh().positions[vertex_id(v)];
+    for (const Vec3& z : m_zones)
+        if ((p - z).norm() < m_exclusion) return true;
+    return false;
+}
+
+bool Splitter::pick_node(std::size_t& node, double& ratio) {
+    Timer timer;
+    double best = 1.0;
+    std::vector<std::size_t> ties;
+    for (std::size_t v = 0; v < m_model.mesh().num_vertices(); ++v) {
+        // Intact nodes and crack lips (a new crack may start at an old one's side); tips have
+        // their own queue, and arrested ones their exclusion zones.
+        if (m_model.incident_faces(v).empty() || is_tip(m_model, v)) continue;
+        const NodalStress ns = nodal_from(m_model, v, [&](std::size_t f) { return m_cache.stress(f); });
+        if (ns.ratio <= 1.0) continue;
+        if (excluded(v)) continue;
+        if (ns.ratio > best * (1 + 1e-12)) {
+            best = ns.ratio;
+            ties.assign(1, v);
+        } else if (ns.ratio >= best * (1 - 1e-12)) {
+            ties.push_back(v);
+        }
+    }
+    m_stats.stress_seconds += timer.seconds();
+    if (ties.empty()) return false;
+    node = ties.size() == 1 ? ties[0] : ties[m_rng.uniform_int(static_cast<std::uint32_t>(ties.size()))];
+    ratio = best;
+    return true;
+}
+
+void Splitter::advance_time() {
+    Timer timer;
+    // The rate solution changed around this step's events: settle it there (§5.8).
+    if (!m_rate_seeds.empty()) {
+        std::sort(m_rate_seeds.begin(), m_rate_seeds.end());
+        m_rate_seeds.erase(std::unique(m_rate_seeds.begin(), m_rate_seeds.end()), m_rate_seeds.end());
+        // Seeds of rolled-back extensions may name vertices that no longer exist.
+        while (!m_rate_seeds.empty() && m_rate_seeds.back() >= m_model.mesh().num_vertices())
+            m_rate_seeds.pop_back();
+        const sim::SolveStats s = m_options.local_relaxation
+                                      ? m_model.relax_rate_local(m_rate_seeds, m_rate_radius, m_local)
+                                      : m_model.solve_rate();
+        m_stats.solver_iterations += s.iterations;
+        ++m_stats.solves;
+        m_stats.solve_seconds += timer.seconds();
+        timer.reset();
+        m_cache.refresh_around(m_model.last_updated_vertices(), true);
+        m_stats.stress_seconds += timer.seconds();
+        m_rate_seeds.clear();
+    }
+    timer.reset();
+    if (m_options.local_relaxation && m_model.max_residual_force() > 1e-3 * m_model.force_scale()) {
+        m_stats.solver_iterations += m_model.relax().iterations + m_model.solve_rate().iterations;
+        m_stats.solves += 2;
+        m_stats.global_cleanups += 1;
+        m_stats.solve_seconds += timer.seconds();
+        timer.reset();
+        m_cache.refresh_all();
+        m_stats.stress_seconds += timer.seconds();
+    }
+
+    // === Alg. 5 on nodal stresses: each node's in-surface ratio is convex in time along the
+    // affine solution, so bracket the first crossing and bisect.
+    timer.reset();
+    const double t0 = m_model.time();
+    const double horizon = std::min(m_options.duration, m_model.stiffness_horizon());
+    const double dt_min = m_options.time_tolerance * m_options.duration;
+    const std::size_t nv = m_model.mesh().num_vertices();
+    std::vector<std::size_t> nodes;
+    for (std::size_t v = 0; v < nv; ++v)
+        if (!m_model.incident_faces(v).empty() && !is_tip(m_model, v) && !excluded(v)) nodes.push_back(v);
+    auto ratio_at = [&](std::size_t v, double dt) {
+        return nodal_from(m_model, v,
+                          [&](std::size_t f) {
+                              sim::TopStress s = m_cache.stress(f);
+                              for (std::size_t k = 0; k < 3; ++k)
+                                  s[k] += dt * m_cache.rate(f)[k];
+                              return s;
+                          })
+            .ratio;
+    };
+    auto over = [&](double t, std::vector<std::size_t>* which) {
+        bool any = false;
+        for (std::size_t v : nodes)
+            if (ratio_at(v, t - t0) > 1.0) {
+                any = true;
+                if (!which) return true;
+                which->push_back(v);
+            }
+        return any;
+    };
+    double t_lo = t0, t_hi = t0, dt = std::max(m_last_step, dt_min);
+    bool found = false;
+    while (t_hi < horizon) {
+        t_hi = std::min(t_lo + dt, horizon);
+        if (over(t_hi, nullptr)) {
+            found = true;
+            break;
+        }
+        t_lo = t_hi;
+        dt *= 2.0;
+    }
+    if (found) {
+        std::vector<std::size_t> candidates;
+        over(t_hi, &candidates);
+        nodes = candidates;
+        while (t_hi - t_lo > dt_min) {
+            const double mid = 0.5 * (t_lo + t_hi);
+            (over(mid, nullptr) ? t_hi : t_lo) = mid;
+        }
+        m_last_step = std::max(t_hi - t0, dt_min);
+    }
+    m_stats.stress_seconds += timer.seconds();
+    timer.reset();
+    m_model.advance_time(t_hi);
+    ++m_stats.time_steps;
+    if (m_model.stiffness_changed()) {
+        m_stats.solver_iterations += m_model.relax().iterations + m_model.solve_rate().iterations;
+        m_stats.solves += 2;
+        m_stats.solve_seconds += timer.seconds();
+        timer.reset();
+        m_cache.refresh_all();
+    } else {
+        m_stats.solve_seconds += timer.seconds();
+        timer.reset();
+        m_cache.advance(t_hi - t0);
+    }
+    m_stats.stress_seconds += timer.seconds();
+}
+
+std::vector<Event> Splitter::run(bool& capped) {
+    std::vector<Event> events;
+    {
+        Timer timer;
+        m_stats.solver_iterations += m_model.relax().iterations + m_model.solve_rate().iterations;
+        m_stats.solves += 2;
+        m_stats.solve_seconds += timer.seconds();
+        timer.reset();
+        m_cache.refresh_all();
+        m_stats.stress_seconds += timer.seconds();
+    }
+    Progress progress("fracture", m_options.duration);
+    while (true) {
+        progress.update(m_model.time());
+        if (events.size() >= m_options.max_events) {
+            capped = true;
+            log::warn("fracture stopped at simulation.max_events = ", m_options.max_events, " (t = ", m_model.time(),
+                      " of ", m_options.duration, ")");
+            break;
+        }
+        // Tips first, first in first out (§5.7.4, Fig. 5.20).
+        if (!m_tips.empty()) {
+            const std::size_t tip = m_tips.front();
+            m_tips.pop_front();
+            Event ev;
+            if (extend_tip(tip, ev)) events.push_back(ev);
+            continue;
+        }
+        std::size_t node = 0;
+        double ratio = 0;
+        if (pick_node(node, ratio)) {
+            Event ev;
+            if (start_fracture(node, ratio, ev))
+                events.push_back(ev);
+            else
+                m_zones.push_back(m_model.mesh().positions[vertex_id(node)]); // nowhere to cut
+            continue;
+        }
+        if (m_model.time() >= m_options.duration) break;
+        advance_time();
+    }
+    progress.finish();
+    return events;
+}
+
+} // namespace
+
+NodalStress nodal_stress(const sim::FemModel& model, std::size_t vertex) {
+    return nodal_from(model, vertex, [&](std::size_t f) { return model.top_stress(face_id(f)); });
+}
+
+CrackPattern run_fem_split(sim::FemModel& model, const FractureOptions& options, const SplitOptions& split, Rng& rng,
+                           RunStats* stats_out) {
+    RunStats stats;
+    Timer total;
+    const std::size_t elements_initial = model.num_alive();
+    Splitter splitter(model, options, split, rng, stats);
+    bool capped = false;
+    std::vector<Event> events = splitter.run(capped);
+    CrackPattern pattern = pattern_from_model(model, "fem-split", elements_initial);
+    // Crack openings: the distance between the deformed midpoints of the two lips of an edge.
+    std::map<std::array<double, 6>, std::vector<std::size_t>> lips;
+    for (std::size_t i = 0; i < pattern.cracks.size(); ++i) {
+        const CrackEdge& c = pattern.cracks[i];
+        const mesh::Face& face = pattern.mesh.faces[c.face];
+        Vec3 a = pattern.mesh.positions[face.v[static_cast<std::size_t>(c.edge)]];
+        Vec3 b = pattern.mesh.positions[face.v[static_cast<std::size_t>((c.edge + 1) % 3)]];
+        if (std::lexicographical_compare(b.data(), b.data() + 3, a.data(), a.data() + 3)) std::swap(a, b);
+        lips[{a.x(), a.y(), a.z(), b.x(), b.y(), b.z()}].push_back(i);
+    }
+    for (const auto& [key, ids] : lips) {
+        if (ids.size() != 2) continue;
+        auto mid = [&](const CrackEdge& c) -> Vec3 {
+            const Vec3 p = pattern.deformed_corner(c.face, c.edge);
+            const Vec3 q = pattern.deformed_corner(c.face, (c.edge + 1) % 3);
+            return 0.5 * (p + q);
+        };
+        const double w = (mid(pattern.cracks[ids[0]]) - mid(pattern.cracks[ids[1]])).norm();
+        pattern.cracks[ids[0]].opening = pattern.cracks[ids[1]].opening = w;
+    }
+    pattern.events = std::move(events);
+    pattern.events_capped = capped;
+    stats.total_seconds = total.seconds();
+    if (stats_out) *stats_out = stats;
+    return pattern;
+}
+
+} // namespace crackle::fracture

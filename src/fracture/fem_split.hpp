@@ -1,0 +1,47 @@
+#pragma once
+/// @file Fracture by element splitting (Federl 2002, §5.7; digest §3.9), the thesis' preferred
+/// method: a crack starts at the node with the highest in-surface principal stress over
+/// threshold and cuts the elements around it along the plane normal to that stress, through
+/// the whole layer; its two tips then extend, first in first out, for as long as Griffith's
+/// energy balance allows (a rejected extension is rolled back and leaves an exclusion zone);
+/// cuts that would leave slivers move the nearby vertex onto the plane instead (edge
+/// collapse); the equilibrium is re-solved locally after every change (§5.8); between events
+/// time jumps to the next fracture (Alg. 5).
+
+#include "core/rng.hpp"
+#include "fracture/crack_pattern.hpp"
+#include "fracture/fem_remove.hpp"
+#include "sim/fem_model.hpp"
+
+namespace crackle::fracture {
+
+struct SplitOptions {
+    /// A cut closer than this share of an edge to one of its vertices goes through the vertex.
+    double snap_fraction = 0.2;
+    /// Smallest triangle angle a cut may leave (degrees); below it the cut goes through the
+    /// nearer vertex, moved onto the fracture plane when it is free to move (§5.7.5).
+    double min_angle_deg = 12.0;
+    /// Radius of the zone around an arrested tip where no new fracture may start (m); < 0:
+    /// the mean layer thickness (Ch. 6 gives no value).
+    double exclusion_radius = -1;
+    /// Griffith's test at tips (Alg. 11); false: tips always extend while stress > threshold.
+    bool griffith = true;
+};
+
+/// Runs the splitting model from the model's current time to `options.duration`; ties between
+/// equally stressed nodes are broken with `rng`. Returns the pattern (cracks are open mesh
+/// edges; every lip is a CrackEdge, its depth the layer thickness).
+CrackPattern run_fem_split(sim::FemModel& model, const FractureOptions& options, const SplitOptions& split, Rng& rng,
+                           RunStats* stats = nullptr);
+
+/// In-surface stress at the top of a node: the average over its elements of each one's stress
+/// at its top Gauss point nearest the node (§5.7.1), projected on the current tangent plane.
+struct NodalStress {
+    double ratio = 0;                ///< largest in-surface principal stress / threshold
+    Vec3 crack = Vec3::Zero();       ///< unit crack direction at t = 0 (normal to that stress)
+    double threshold = 0;            ///< mean threshold of the node's elements (Pa)
+    double toughness = 0, young = 0; ///< means of the node's elements
+};
+NodalStress nodal_stress(const sim::FemModel& model, std::size_t vertex);
+
+} // namespace crackle::fracture

@@ -1,0 +1,155 @@
+#pragma once
+/// @file Top-face stresses of every element of a wedge-FEM layer, cached and moved along the
+/// affine-in-time solution (shared by the FEM fracture methods).
+
+#include "sim/fem_model.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <vector>
+
+namespace crackle::fracture {
+
+/// Top-face stresses of every element, affine in time while the stiffness is fixed:
+/// σ(t₀ + τ) = σ₀ + τ·σ̇. Keeps each element's ratio at the current time and the set of
+/// over-threshold candidates, so an event costs work only where stresses changed.
+class StressCache {
+public:
+    explicit StressCache(const sim::FemModel& model) : m_model(model) {}
+
+    void resize() {
+        const std::size_t n = m_model.mesh().num_faces();
+        m_s0.resize(n);
+        m_rate.resize(n);
+        m_ratio.resize(n, 0.0);
+    }
+
+    void refresh(std::size_t f, bool rate = true) {
+        if (!m_model.alive(mesh::face_id(f))) {
+            m_ratio[f] = 0.0;
+            return;
+        }
+        m_s0[f] = m_model.top_stress(mesh::face_id(f));
+        if (rate) m_rate[f] = m_model.top_stress_rate(mesh::face_id(f));
+        m_ratio[f] = ratio_at(f, 0.0);
+    }
+
+    void refresh_rate(std::size_t f) {
+        if (m_model.alive(mesh::face_id(f))) m_rate[f] = m_model.top_stress_rate(mesh::face_id(f));
+    }
+
+    void refresh_all() {
+        resize();
+        for (std::size_t f = 0; f < m_s0.size(); ++f)
+            refresh(f);
+    }
+
+    /// Re-evaluates the elements around the given vertices (§5.8.4: recompute stresses only
+    /// where nodes moved), skipping those whose nodes moved too little to change their stress
+    /// by 1e-7 of the threshold. `rates` re-evaluates σ̇ instead of σ.
+    std::size_t refresh_around(const std::vector<std::size_t>& vertices, bool rates = false) {
+        const auto& update = m_model.last_update();
+        std::size_t count = 0;
+        ++m_stamp;
+        if (m_seen.size() < m_s0.size()) m_seen.resize(m_s0.size(), 0);
+        for (std::size_t v : vertices) {
+            for (std::uint32_t f : m_model.incident_faces(v)) {
+                if (m_seen[f] == m_stamp || !m_model.alive(mesh::face_id(f))) continue;
+                m_seen[f] = m_stamp;
+                const mesh::Face& face = m_model.mesh().faces[mesh::face_id(f)];
+                const double moved =
+                    std::max({update[mesh::ix(face.v[0])], update[mesh::ix(face.v[1])], update[mesh::ix(face.v[2])]});
+                const auto& mat = m_model.material(mesh::face_id(f));
+                // A rate change is judged over the whole run (time scale 1).
+                if (mat.young_modulus * moved < 1e-7 * mat.threshold_stress * m_model.element_size(mesh::face_id(f)))
+                    continue;
+                if (rates)
+                    refresh_rate(f);
+                else
+                    refresh(f, false);
+                ++count;
+            }
+        }
+        return count;
+    }
+
+    /// Moves every cached stress forward by dt along its rate.
+    void advance(double dt) {
+        for (std::size_t f = 0; f < m_s0.size(); ++f) {
+            if (!m_model.alive(mesh::face_id(f))) continue;
+            for (std::size_t k = 0; k < 3; ++k)
+                m_s0[f][k] += dt * m_rate[f][k];
+            m_ratio[f] = ratio_at(f, 0.0);
+        }
+    }
+
+    /// Largest top principal stress over threshold, dt after the cache's time.
+    double ratio_at(std::size_t f, double dt) const {
+        double best = -std::numeric_limits<double>::infinity();
+        for (std::size_t k = 0; k < 3; ++k) {
+            const sim::wedge::Vec6 s = dt == 0.0 ? m_s0[f][k] : sim::wedge::Vec6(m_s0[f][k] + dt * m_rate[f][k]);
+            best = std::max(best, sim::wedge::max_principal(s).value);
+        }
+        return best / m_model.material(mesh::face_id(f)).threshold_stress;
+    }
+
+    double ratio(std::size_t f) const { return m_ratio[f]; }
+    const sim::TopStress& stress(std::size_t f) const { return m_s0[f]; }
+    const sim::TopStress& rate(std::size_t f) const { return m_rate[f]; }
+    /// Takes another cache's values (a snapshot of the same model).
+    void assign_from(const StressCache& other) {
+        m_s0 = other.m_s0;
+        m_rate = other.m_rate;
+        m_ratio = other.m_ratio;
+    }
+
+    /// (lower bound of the time until the element can reach its threshold, element), sorted.
+    std::vector<std::pair<double, std::size_t>> earliest_crossings() const {
+        auto frobenius = [](const sim::wedge::Vec6& v) {
+            return std::sqrt(sqr(v[0]) + sqr(v[1]) + sqr(v[2]) + 2 * (sqr(v[3]) + sqr(v[4]) + sqr(v[5])));
+        };
+        std::vector<std::pair<double, std::size_t>> out;
+        out.reserve(m_s0.size());
+        for (std::size_t f = 0; f < m_s0.size(); ++f) {
+            if (!m_model.alive(mesh::face_id(f))) continue;
+            const double thr = m_model.material(mesh::face_id(f)).threshold_stress;
+            double bound = std::numeric_limits<double>::infinity();
+            for (std::size_t k = 0; k < 3; ++k) {
+                const double s = frobenius(m_s0[f][k]), r = frobenius(m_rate[f][k]);
+                if (s >= thr)
+                    bound = 0.0;
+                else if (r > 0)
+                    bound = std::min(bound, (thr - s) / r);
+            }
+            if (std::isfinite(bound)) out.emplace_back(bound, f);
+        }
+        std::sort(out.begin(), out.end());
+        return out;
+    }
+    std::size_t size() const { return m_s0.size(); }
+
+private:
+    const sim::FemModel& m_model;
+
+    std::vector<sim::TopStress> m_s0, m_rate;
+    std::vector<double> m_ratio;
+    std::vector<std::uint32_t> m_seen;
+    std::uint32_t m_stamp = 0;
+};
+
+} // namespace crackle::fracture
+
+namespace crackle::fracture {
+
+/// Hops that cover ln(1/tol)·1.6 mean thicknesses (the decay length of a local change, §5.8).
+inline double initial_radius(const sim::FemModel& model, double tolerance) {
+    double h = 0;
+    for (std::size_t v = 0; v < model.mesh().num_vertices(); ++v)
+        h += model.vertex_thickness(mesh::vertex_id(v));
+    h /= static_cast<double>(std::max<std::size_t>(model.mesh().num_vertices(), 1));
+    const double edge = mesh::mesh_quality(model.mesh()).edge_mean;
+    return std::clamp(std::ceil(1.6 * std::log(1.0 / tolerance) * h / edge), 2.0, 64.0);
+}
+
+} // namespace crackle::fracture
