@@ -32,31 +32,45 @@ int corner_of(const mesh::SurfaceMesh& m, std::size_t f, std::size_t v) {
     return -1;
 }
 
-/// The in-surface principal stress of a nodal tensor (§5.7.1–5.7.2): the 3D stress projected
-/// on the current tangent plane, its largest eigenvalue, and the crack direction normal to it
-/// (in the plane), mapped back to t = 0 by the inverse growth map.
-NodalStress principal_in_surface(const sim::FemModel& model, std::size_t v, const Mat3& sigma) {
+/// The current tangent plane at a node (orthonormal e1, e2 of the grown surface) and the
+/// inverse growth map back to t = 0.
+struct NodeFrame {
+    Vec3 e1, e2, n;
+    Mat3 G_inv;
+};
+
+NodeFrame node_frame(const sim::FemModel& model, std::size_t v) {
     const Mat3 G = Mat3::Identity() + model.time() * model.growth().tensor();
     const Vec3& p0 = model.mesh().positions[vertex_id(v)];
     const mesh::TangentFrame fr = model.surface().frame(p0);
-    const Vec3 n = (G.inverse().transpose() * fr.n).normalized();
-    Vec3 e1 = G * fr.e_u;
-    e1 = (e1 - e1.dot(n) * n).normalized();
-    const Vec3 e2 = n.cross(e1);
-    Mat2 T;
-    T << e1.dot(sigma * e1), e1.dot(sigma * e2), e2.dot(sigma * e1), e2.dot(sigma * e2);
-    Eigen::SelfAdjointEigenSolver<Mat2> eig(T);
-    const Vec2 d = eig.eigenvectors().col(1);
-    const Vec3 normal_dir = d.x() * e1 + d.y() * e2;
-    NodalStress out;
-    out.ratio = eig.eigenvalues()[1];
-    out.crack = (G.inverse() * n.cross(normal_dir)).normalized();
+    NodeFrame out;
+    out.G_inv = G.inverse();
+    out.n = (out.G_inv.transpose() * fr.n).normalized();
+    const Vec3 e1 = G * fr.e_u;
+    out.e1 = (e1 - e1.dot(out.n) * out.n).normalized();
+    out.e2 = out.n.cross(out.e1);
     return out;
 }
 
-/// Nodal stress tensor and material means, from any per-face top-stress source.
-template <class StressOf> NodalStress nodal_from(const sim::FemModel& model, std::size_t v, StressOf&& stress_of) {
-    Mat3 sigma = Mat3::Zero();
+/// A 3D stress tensor projected on the tangent plane (2×2, symmetric).
+Mat2 project(const NodeFrame& fr, const Mat3& sigma) {
+    Mat2 T;
+    T << fr.e1.dot(sigma * fr.e1), fr.e1.dot(sigma * fr.e2), fr.e2.dot(sigma * fr.e1), fr.e2.dot(sigma * fr.e2);
+    return T;
+}
+
+/// Largest eigenvalue of a symmetric 2×2 matrix, closed form.
+double max_eigenvalue(const Mat2& T) {
+    const double mean = 0.5 * (T(0, 0) + T(1, 1)), half_diff = 0.5 * (T(0, 0) - T(1, 1));
+    return mean + std::hypot(half_diff, 0.5 * (T(0, 1) + T(1, 0)));
+}
+
+/// Nodal stress tensor (§5.7.1: the mean over the node's elements of each one's top Gauss
+/// point nearest the node) from any per-face top-stress source; `means` gets the mean
+/// threshold, toughness and stiffness. Returns false for a node with no element.
+template <class StressOf>
+bool nodal_tensor(const sim::FemModel& model, std::size_t v, StressOf&& stress_of, Mat3& sigma, NodalStress& means) {
+    sigma = Mat3::Zero();
     double thr = 0, kic = 0, young = 0;
     int count = 0;
     for (std::uint32_t f : model.incident_faces(v)) {
@@ -69,12 +83,27 @@ template <class StressOf> NodalStress nodal_from(const sim::FemModel& model, std
         young += mat.young_modulus;
         ++count;
     }
-    if (count == 0) return {};
-    NodalStress out = principal_in_surface(model, v, sigma / count);
-    out.threshold = thr / count;
-    out.toughness = kic / count;
-    out.young = young / count;
-    out.ratio /= out.threshold;
+    if (count == 0) return false;
+    sigma /= count;
+    means.threshold = thr / count;
+    means.toughness = kic / count;
+    means.young = young / count;
+    return true;
+}
+
+/// The in-surface principal stress of a node (§5.7.1–5.7.2): the largest eigenvalue of the
+/// projected tensor over the threshold, and the crack direction normal to it (in the plane),
+/// mapped back to t = 0 by the inverse growth map.
+template <class StressOf> NodalStress nodal_from(const sim::FemModel& model, std::size_t v, StressOf&& stress_of) {
+    NodalStress out;
+    Mat3 sigma;
+    if (!nodal_tensor(model, v, stress_of, sigma, out)) return out;
+    const NodeFrame fr = node_frame(model, v);
+    Eigen::SelfAdjointEigenSolver<Mat2> eig(project(fr, sigma));
+    const Vec2 d = eig.eigenvectors().col(1);
+    const Vec3 normal_dir = d.x() * fr.e1 + d.y() * fr.e2;
+    out.ratio = eig.eigenvalues()[1] / out.threshold;
+    out.crack = (fr.G_inv * fr.n.cross(normal_dir)).normalized();
     return out;
 }
 
@@ -176,7 +205,7 @@ bool is_tip(const sim::FemModel& model, std::size_t v) {
 class Splitter {
 public:
     Splitter(sim::FemModel& model, const FractureOptions& options, const SplitOptions& split, Rng& rng, RunStats& stats)
-        : m_model(model), m_options(options), m_split(split), m_rng(rng), m_stats(stats), m_cache(model) {
+        : m_model(model), m_options(options), m_split(split), m_rng(rng), m_stats(stats), m_cache(model, false) {
         double h = 0;
         for (std::size_t v = 0; v < model.mesh().num_vertices(); ++v)
             h += model.vertex_thickness(vertex_id(v));
@@ -208,6 +237,7 @@ private:
     void refresh_after(const std::vector<FaceId>& touched, const std::vector<std::size_t>& moved);
     bool excluded(std::size_t v) const;
     bool pick_node(std::size_t& node, double& ratio);
+    void update_node_ratios();
     void advance_time();
 
     sim::FemModel& m_model;
@@ -221,6 +251,8 @@ private:
     std::deque<std::size_t> m_tips;
     std::vector<Vec3> m_zones; // reference positions of arrested tips
     std::vector<std::size_t> m_rate_seeds;
+    std::vector<double> m_node_ratio; // nodal ratio per vertex, valid where not dirty
+    std::vector<char> m_node_dirty;
 };
 
 std::vector<std::size_t> Splitter::relax_near(const std::vector<FaceId>& faces, double* released) {
@@ -323,7 +355,7 @@ Splitter::CutEnd Splitter::cut_towards(std::size_t v, const Vec3& direction, std
 
 bool Splitter::open_edges(const std::vector<std::pair<std::size_t, std::size_t>>& edges, std::vector<FaceId>& touched) {
     const mesh::SurfaceMesh& m = m_model.mesh();
-    std::vector<std::array<char, 3>> marks(m.num_faces(), {0, 0, 0});
+    std::vector<std::pair<FaceId, int>> sides;
     for (const auto& [a, b] : edges)
         for (std::uint32_t f : m_model.incident_faces(a)) {
             const mesh::Face& face = m.faces[face_id(f)];
@@ -331,18 +363,17 @@ bool Splitter::open_edges(const std::vector<std::pair<std::size_t, std::size_t>>
                 const std::size_t p = ix(face.v[static_cast<std::size_t>(k)]);
                 const std::size_t q = ix(face.v[static_cast<std::size_t>((k + 1) % 3)]);
                 if ((p == a && q == b) || (p == b && q == a)) {
-                    marks[f][static_cast<std::size_t>(k)] = 1;
+                    sides.emplace_back(face_id(f), k);
                     touched.push_back(face_id(f));
                 }
             }
         }
-    const std::size_t nv_before = m.num_vertices();
-    m_model.cut(marks);
+    const auto copies = m_model.cut(sides);
     // Faces moved onto new copies changed their nodes: refresh them too.
-    for (std::size_t v = nv_before; v < m_model.mesh().num_vertices(); ++v)
-        for (std::uint32_t f : m_model.incident_faces(v))
+    for (const auto& [copy, origin] : copies)
+        for (std::uint32_t f : m_model.incident_faces(ix(copy)))
             touched.push_back(face_id(f));
-    return m_model.mesh().num_vertices() > nv_before;
+    return !copies.empty();
 }
 
 bool Splitter::start_fracture(std::size_t v, double ratio, Event& ev) {
@@ -460,21 +491,40 @@ bool Splitter::excluded(std::size_t v) const {
     return false;
 }
 
+void Splitter::update_node_ratios() {
+    // Only nodes of faces whose stress changed since the last pick need a new value.
+    const std::size_t nv = m_model.mesh().num_vertices();
+    std::vector<std::uint32_t> faces;
+    const bool all = m_cache.take_changes(faces);
+    m_node_ratio.resize(nv, 0.0);
+    m_node_dirty.resize(nv, 1);
+    if (all) std::fill(m_node_dirty.begin(), m_node_dirty.end(), 1);
+    for (std::uint32_t f : faces)
+        if (f < m_model.mesh().num_faces())
+            for (VertexId w : m_model.mesh().faces[face_id(f)].v)
+                m_node_dirty[ix(w)] = 1;
+    for (std::size_t v = 0; v < nv; ++v) {
+        if (!m_node_dirty[v]) continue;
+        m_node_dirty[v] = 0;
+        m_node_ratio[v] = nodal_from(m_model, v, [&](std::size_t f) { return m_cache.stress(f); }).ratio;
+    }
+}
+
 bool Splitter::pick_node(std::size_t& node, double& ratio) {
     Timer timer;
+    update_node_ratios();
     double best = 1.0;
     std::vector<std::size_t> ties;
     for (std::size_t v = 0; v < m_model.mesh().num_vertices(); ++v) {
         // Intact nodes and crack lips (a new crack may start at an old one's side); tips have
         // their own queue, and arrested ones their exclusion zones.
-        if (m_model.incident_faces(v).empty() || is_tip(m_model, v)) continue;
-        const NodalStress ns = nodal_from(m_model, v, [&](std::size_t f) { return m_cache.stress(f); });
-        if (ns.ratio <= 1.0) continue;
-        if (excluded(v)) continue;
-        if (ns.ratio > best * (1 + 1e-12)) {
-            best = ns.ratio;
+        const double r = m_node_ratio[v];
+        if (r <= 1.0 || r < best * (1 - 1e-12)) continue;
+        if (m_model.incident_faces(v).empty() || is_tip(m_model, v) || excluded(v)) continue;
+        if (r > best * (1 + 1e-12)) {
+            best = r;
             ties.assign(1, v);
-        } else if (ns.ratio >= best * (1 - 1e-12)) {
+        } else {
             ties.push_back(v);
         }
     }
@@ -523,26 +573,34 @@ void Splitter::advance_time() {
     const double horizon = std::min(m_options.duration, m_model.stiffness_horizon());
     const double dt_min = m_options.time_tolerance * m_options.duration;
     const std::size_t nv = m_model.mesh().num_vertices();
-    std::vector<std::size_t> nodes;
-    for (std::size_t v = 0; v < nv; ++v)
-        if (!m_model.incident_faces(v).empty() && !is_tip(m_model, v) && !excluded(v)) nodes.push_back(v);
-    auto ratio_at = [&](std::size_t v, double dt) {
-        return nodal_from(m_model, v,
-                          [&](std::size_t f) {
-                              sim::TopStress s = m_cache.stress(f);
-                              for (std::size_t k = 0; k < 3; ++k)
-                                  s[k] += dt * m_cache.rate(f)[k];
-                              return s;
-                          })
-            .ratio;
+    // Each node's projected tensor is affine in time (the frame is held at t0 over the step):
+    // T(t0 + τ) = T0 + τ·T1, so a probe costs a closed-form 2×2 eigenvalue per node.
+    struct NodeLine {
+        std::size_t v;
+        Mat2 T0, T1;
+        double threshold;
     };
-    auto over = [&](double t, std::vector<std::size_t>* which) {
+    std::vector<NodeLine> lines;
+    for (std::size_t v = 0; v < nv; ++v) {
+        if (m_model.incident_faces(v).empty() || is_tip(m_model, v) || excluded(v)) continue;
+        NodalStress means;
+        Mat3 s0, s1;
+        if (!nodal_tensor(
+                m_model, v, [&](std::size_t f) -> const sim::TopStress& { return m_cache.stress(f); }, s0, means))
+            continue;
+        nodal_tensor(
+            m_model, v, [&](std::size_t f) -> const sim::TopStress& { return m_cache.rate(f); }, s1, means);
+        const NodeFrame fr = node_frame(m_model, v);
+        lines.push_back({v, project(fr, s0), project(fr, s1), means.threshold});
+    }
+    auto over = [&](double t, std::vector<NodeLine>* which) {
+        const double tau = t - t0;
         bool any = false;
-        for (std::size_t v : nodes)
-            if (ratio_at(v, t - t0) > 1.0) {
+        for (const NodeLine& l : lines)
+            if (max_eigenvalue(l.T0 + tau * l.T1) > l.threshold) {
                 any = true;
                 if (!which) return true;
-                which->push_back(v);
+                which->push_back(l);
             }
         return any;
     };
@@ -558,9 +616,9 @@ void Splitter::advance_time() {
         dt *= 2.0;
     }
     if (found) {
-        std::vector<std::size_t> candidates;
+        std::vector<NodeLine> candidates;
         over(t_hi, &candidates);
-        nodes = candidates;
+        lines = std::move(candidates);
         while (t_hi - t_lo > dt_min) {
             const double mid = 0.5 * (t_lo + t_hi);
             (over(mid, nullptr) ? t_hi : t_lo) = mid;

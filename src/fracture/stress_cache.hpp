@@ -16,7 +16,9 @@ namespace crackle::fracture {
 /// over-threshold candidates, so an event costs work only where stresses changed.
 class StressCache {
 public:
-    explicit StressCache(const sim::FemModel& model) : m_model(model) {}
+    /// `ratios`: keep each element's ratio (fem-remove picks elements by it; fem-split, which
+    /// works on nodes, does not need them).
+    explicit StressCache(const sim::FemModel& model, bool ratios = true) : m_model(model), m_ratios(ratios) {}
 
     void resize() {
         const std::size_t n = m_model.mesh().num_faces();
@@ -26,13 +28,14 @@ public:
     }
 
     void refresh(std::size_t f, bool rate = true) {
+        m_changed.push_back(static_cast<std::uint32_t>(f));
         if (!m_model.alive(mesh::face_id(f))) {
             m_ratio[f] = 0.0;
             return;
         }
         m_s0[f] = m_model.top_stress(mesh::face_id(f));
         if (rate) m_rate[f] = m_model.top_stress_rate(mesh::face_id(f));
-        m_ratio[f] = ratio_at(f, 0.0);
+        if (m_ratios) m_ratio[f] = ratio_at(f, 0.0);
     }
 
     void refresh_rate(std::size_t f) {
@@ -40,6 +43,7 @@ public:
     }
 
     void refresh_all() {
+        m_all_changed = true;
         resize();
         for (std::size_t f = 0; f < m_s0.size(); ++f)
             refresh(f);
@@ -76,11 +80,12 @@ public:
 
     /// Moves every cached stress forward by dt along its rate.
     void advance(double dt) {
+        m_all_changed = true;
         for (std::size_t f = 0; f < m_s0.size(); ++f) {
             if (!m_model.alive(mesh::face_id(f))) continue;
             for (std::size_t k = 0; k < 3; ++k)
                 m_s0[f][k] += dt * m_rate[f][k];
-            m_ratio[f] = ratio_at(f, 0.0);
+            if (m_ratios) m_ratio[f] = ratio_at(f, 0.0);
         }
     }
 
@@ -129,12 +134,24 @@ public:
     }
     std::size_t size() const { return m_s0.size(); }
 
+    /// The faces whose stress (not rate) changed since the last call; true if all may have.
+    bool take_changes(std::vector<std::uint32_t>& faces) {
+        faces.swap(m_changed);
+        m_changed.clear();
+        const bool all = m_all_changed;
+        m_all_changed = false;
+        return all;
+    }
+
 private:
     const sim::FemModel& m_model;
+    bool m_ratios = true;
 
     std::vector<sim::TopStress> m_s0, m_rate;
     std::vector<double> m_ratio;
     std::vector<std::uint32_t> m_seen;
+    std::vector<std::uint32_t> m_changed;
+    bool m_all_changed = true;
     std::uint32_t m_stamp = 0;
 };
 

@@ -42,7 +42,12 @@ EdgeSplit split_edge(SurfaceMesh& mesh, FaceId f, int edge, const NewVertex& nv)
     if (mesh.periodic) mesh.domain.push_back(nv.domain);
     split.children.emplace_back(f, split_face(mesh, f, edge, split.vertex));
     if (nb.face != NO_FACE) split.children.emplace_back(nb.face, split_face(mesh, nb.face, nb.edge, split.vertex));
-    mesh.rebuild_adjacency();
+    std::vector<FaceId> changed;
+    for (const auto& [parent, child] : split.children) {
+        changed.push_back(parent);
+        changed.push_back(child);
+    }
+    mesh.update_adjacency(changed);
     return split;
 }
 

@@ -116,6 +116,94 @@ void SurfaceMesh::rebuild_adjacency() {
     }
 }
 
+void SurfaceMesh::update_adjacency(const std::vector<FaceId>& changed) {
+    // The changed faces can only pair with each other or with their old neighbours (a face
+    // added since the last update has none; its parent is among `changed`). Everything else
+    // keeps its links, so re-pairing the half-edges of this small set is exact.
+    const std::size_t old_faces = m_neighbors.size();
+    m_neighbors.resize(num_faces());
+    for (std::size_t f = old_faces; f < num_faces(); ++f)
+        m_neighbors[face_id(f)] = {};
+    m_vertex_face.resize(num_vertices(), NO_FACE);
+    std::vector<std::uint32_t> set;
+    for (FaceId f : changed) {
+        set.push_back(static_cast<std::uint32_t>(ix(f)));
+        for (const FaceNeighbor& nb : m_neighbors[f])
+            if (nb.face != NO_FACE) set.push_back(static_cast<std::uint32_t>(ix(nb.face)));
+    }
+    std::sort(set.begin(), set.end());
+    set.erase(std::unique(set.begin(), set.end()), set.end());
+    auto in_set = [&](FaceId f) {
+        return std::binary_search(set.begin(), set.end(), static_cast<std::uint32_t>(ix(f)));
+    };
+    // Edge counts in half units over the set's half-edges: a paired one is half an edge.
+    // (Faces added since the last update did not exist before: they count only after.)
+    auto tally = [&](long& halves, long& boundary, std::size_t faces_then) {
+        for (std::uint32_t f : set)
+            if (f < faces_then)
+                for (const FaceNeighbor& nb : m_neighbors[face_id(f)]) {
+                    halves += nb.face == NO_FACE ? 2 : 1;
+                    boundary += nb.face == NO_FACE;
+                }
+    };
+    long halves_before = 0, boundary_before = 0;
+    tally(halves_before, boundary_before, old_faces);
+    // Unlink every edge inside the set, keep the links to faces outside it.
+    struct HalfEdge {
+        EdgeKey key;
+        bool forward;
+        std::uint32_t face;
+        int edge;
+    };
+    std::vector<HalfEdge> half_edges;
+    for (std::uint32_t fi : set) {
+        const FaceId f = face_id(fi);
+        for (int k = 0; k < 3; ++k) {
+            FaceNeighbor& nb = m_neighbors[f][static_cast<size_t>(k)];
+            if (nb.face != NO_FACE && !in_set(nb.face)) continue;
+            nb = {};
+            bool forward = false;
+            const EdgeKey key = edge_key(faces[f], k, forward);
+            half_edges.push_back({key, forward, fi, k});
+        }
+    }
+    std::sort(half_edges.begin(), half_edges.end(), [](const HalfEdge& a, const HalfEdge& b) {
+        return std::tie(a.key, a.face, a.edge) < std::tie(b.key, b.face, b.edge);
+    });
+    for (std::size_t i = 0; i < half_edges.size();) {
+        std::size_t j = i + 1;
+        while (j < half_edges.size() && half_edges[j].key == half_edges[i].key)
+            ++j;
+        if (j - i > 1) {
+            const HalfEdge& a = half_edges[i];
+            const HalfEdge& b = half_edges[i + 1];
+            CRACKLE_ASSERT(j - i == 2, "non-manifold edge " << std::get<0>(a.key) << "-" << std::get<1>(a.key)
+                                                            << " shared by " << (j - i) << " faces");
+            CRACKLE_ASSERT(a.forward != b.forward,
+                           "faces " << a.face << " and " << b.face << " disagree in orientation across an edge");
+            m_neighbors[face_id(a.face)][static_cast<size_t>(a.edge)] = {face_id(b.face), b.edge};
+            m_neighbors[face_id(b.face)][static_cast<size_t>(b.edge)] = {face_id(a.face), a.edge};
+        }
+        i = j;
+    }
+    long halves_after = 0, boundary_after = 0;
+    tally(halves_after, boundary_after, num_faces());
+    m_num_edges = static_cast<std::size_t>(static_cast<long>(m_num_edges) + (halves_after - halves_before) / 2);
+    m_num_boundary_edges =
+        static_cast<std::size_t>(static_cast<long>(m_num_boundary_edges) + boundary_after - boundary_before);
+    // Vertex → face links that no longer hold.
+    for (std::uint32_t fi : set)
+        for (VertexId v : faces[face_id(fi)].v) {
+            const FaceId g = m_vertex_face[v];
+            bool holds = g != NO_FACE;
+            if (holds) {
+                const Face& face = faces[g];
+                holds = face.v[0] == v || face.v[1] == v || face.v[2] == v;
+            }
+            if (!holds) m_vertex_face[v] = face_id(fi);
+        }
+}
+
 std::vector<FaceId> SurfaceMesh::vertex_faces(VertexId v) const {
     // Walk the fan around v through the neighbour links; fall back to a scan at boundaries.
     std::vector<FaceId> fan;

@@ -54,6 +54,10 @@ public:
     // === Adjacency
     /// Rebuilds neighbours and vertex→face links. Throws InvariantError on a non-manifold edge.
     void rebuild_adjacency();
+    /// Updates the adjacency after local changes, in time proportional to them: `changed`
+    /// lists every face whose corners changed and every face added since the last update.
+    /// Vertices that lost all their faces keep a stale vertex→face link (nothing asks for it).
+    void update_adjacency(const std::vector<FaceId>& changed);
     const FaceNeighbor& neighbor(FaceId f, int edge) const { return m_neighbors[f][edge]; }
     FaceId vertex_face(VertexId v) const { return m_vertex_face[v]; }
     /// Faces around a vertex (one per incident corner; a face can repeat on tiny tori).

@@ -131,6 +131,31 @@ FemModel::TrialSlot& FemModel::TrialSlot::operator=(TrialSlot&&) noexcept {
 }
 FemModel::TrialSlot::~TrialSlot() = default;
 
+namespace {
+/// Sets K(row, col) in an uncompressed matrix whose row has room. Eigen's own insert()
+/// re-reserves every row (O(nnz)) whenever the storage has spare capacity, which geometric
+/// growth always leaves; this never reallocates.
+void set_entry(SpMatR& K, Eigen::Index row, Eigen::Index col, double value) {
+    int* idx = K.innerIndexPtr();
+    const int begin = K.outerIndexPtr()[row];
+    const int end = begin + K.innerNonZeroPtr()[row];
+    int* pos = std::lower_bound(idx + begin, idx + end, static_cast<int>(col));
+    const auto p = static_cast<Eigen::Index>(pos - idx);
+    if (pos != idx + end && *pos == col) {
+        K.valuePtr()[p] = value;
+        return;
+    }
+    CRACKLE_ASSERT(end < K.outerIndexPtr()[row + 1], "row " << row << " of K has no room (reserve first)");
+    for (Eigen::Index q = end; q > p; --q) {
+        idx[q] = idx[q - 1];
+        K.valuePtr()[q] = K.valuePtr()[q - 1];
+    }
+    idx[p] = static_cast<int>(col);
+    K.valuePtr()[p] = value;
+    ++K.innerNonZeroPtr()[row];
+}
+} // namespace
+
 void FemModel::begin_trial() {
     CRACKLE_ASSERT(!m_trial.active, "trials do not nest");
     if (!m_trial.trial) m_trial.trial = std::make_unique<Trial>();
@@ -204,7 +229,7 @@ void FemModel::rollback() {
         for (SpMatR::InnerIterator it(m_K, row); it; ++it)
             it.valueRef() = 0.0;
         for (const auto& [col, value] : entries)
-            m_K.coeffRef(row, col) = value;
+            set_entry(m_K, row, col, value);
     }
     const auto n = static_cast<Eigen::Index>(3 * t.vertices);
     if (m_K.rows() > n) m_K.conservativeResize(n, n);
@@ -395,8 +420,7 @@ void FemModel::refresh_incidence(const std::vector<FaceId>& faces, const std::ve
 void FemModel::reassemble_around(const std::vector<std::size_t>& vertices) {
     // The rows (and, by symmetry, columns) of these vertices are rebuilt from their current
     // elements (Alg. 7 generalised): exact, O(changed), no full assembly. The pattern only grows.
-    const auto n = static_cast<Eigen::Index>(3 * m_mesh.num_vertices());
-    if (m_K.rows() < n) m_K.conservativeResize(n, n);
+    grow_rows(static_cast<Eigen::Index>(3 * m_mesh.num_vertices()));
     // The new blocks: (a, b, K_ab) summed over the faces a and b share.
     struct Block {
         std::size_t a, b;
@@ -426,8 +450,11 @@ void FemModel::reassemble_around(const std::vector<std::size_t>& vertices) {
         if (m_alive_degree[a] == 0) blocks.push_back({a, a, Mat3::Identity()});
     }
     // Make room first, in one move: Eigen's one-at-a-time insertion reallocates everything.
+    // The matrix stays uncompressed with slack in every row, so most changes fit where they
+    // are; a short row moves the rows after it (O(nnz)), so it gets generous slack.
     {
-        std::vector<std::pair<Eigen::Index, Eigen::Index>> missing; // (row, col)
+        constexpr int slack = 18;          // six new neighbour vertices
+        std::vector<Eigen::Index> missing; // rows, one entry per missing 3-column block
         auto has = [&](Eigen::Index row, Eigen::Index col) {
             for (SpMatR::InnerIterator it(m_K, row); it; ++it)
                 if (it.col() == col) return true;
@@ -436,28 +463,30 @@ void FemModel::reassemble_around(const std::vector<std::size_t>& vertices) {
         for (const Block& bl : blocks)
             for (int i = 0; i < 3; ++i) {
                 const auto ra = static_cast<Eigen::Index>(3 * bl.a) + i, rb = static_cast<Eigen::Index>(3 * bl.b) + i;
-                if (!has(ra, static_cast<Eigen::Index>(3 * bl.b))) missing.emplace_back(ra, 3);
-                if (!has(rb, static_cast<Eigen::Index>(3 * bl.a))) missing.emplace_back(rb, 3);
+                if (!has(ra, static_cast<Eigen::Index>(3 * bl.b))) missing.push_back(ra);
+                if (!has(rb, static_cast<Eigen::Index>(3 * bl.a))) missing.push_back(rb);
             }
-        if (!missing.empty()) {
+        std::sort(missing.begin(), missing.end());
+        bool short_of_room = false;
+        for (std::size_t i = 0; i < missing.size() && !short_of_room;) {
+            std::size_t j = i;
+            while (j < missing.size() && missing[j] == missing[i])
+                ++j;
+            const Eigen::Index r = missing[i];
+            const Eigen::Index room = m_K.outerIndexPtr()[r + 1] - m_K.outerIndexPtr()[r] - m_K.innerNonZeroPtr()[r];
+            short_of_room = static_cast<Eigen::Index>(3 * (j - i)) > room;
+            i = j;
+        }
+        if (short_of_room) {
             Eigen::VectorXi need = Eigen::VectorXi::Zero(m_K.outerSize());
-            for (const auto& [row, count] : missing)
-                need[row] += static_cast<int>(count);
-            bool short_of_room = m_K.isCompressed();
-            if (!short_of_room)
-                for (Eigen::Index r = 0; r < m_K.outerSize() && !short_of_room; ++r) {
-                    const Eigen::Index room =
-                        m_K.outerIndexPtr()[r + 1] - m_K.outerIndexPtr()[r] - m_K.innerNonZeroPtr()[r];
-                    short_of_room = need[r] > room;
-                }
-            if (short_of_room) {
-                for (Eigen::Index r = 0; r < need.size(); ++r)
-                    if (need[r] > 0) need[r] += 18; // slack for the next changes here
-                // Grow the storage geometrically, and only when it is full.
-                if (m_K.data().size() + need.sum() > m_K.data().allocatedSize())
-                    m_K.data().reserve(std::max<Eigen::Index>(need.sum(), m_K.data().size() / 2));
-                m_K.reserve(need);
-            }
+            for (Eigen::Index r : missing)
+                need[r] += 3;
+            for (Eigen::Index r = 0; r < need.size(); ++r)
+                if (need[r] > 0) need[r] += slack;
+            // Grow the storage geometrically, and only when it is full.
+            if (m_K.data().size() + need.sum() > m_K.data().allocatedSize())
+                m_K.data().reserve(std::max<Eigen::Index>(need.sum(), m_K.data().size() / 2));
+            m_K.reserve(need);
         }
     }
     if (m_trial.active) {
@@ -481,7 +510,7 @@ void FemModel::reassemble_around(const std::vector<std::size_t>& vertices) {
             const auto row = static_cast<Eigen::Index>(3 * a) + i;
             for (SpMatR::InnerIterator it(m_K, row); it; ++it) {
                 it.valueRef() = 0.0;
-                m_K.coeffRef(it.col(), row) = 0.0;
+                set_entry(m_K, it.col(), row, 0.0);
             }
         }
     for (const Block& bl : blocks) {
@@ -492,10 +521,29 @@ void FemModel::reassemble_around(const std::vector<std::size_t>& vertices) {
     m_solver->invalidate(true);
 }
 
+void FemModel::grow_rows(Eigen::Index n) {
+    constexpr int slack = 18, room = 36; // per old row, per new row (12 neighbour vertices)
+    if (m_K.isCompressed()) m_K.reserve(Eigen::VectorXi::Constant(m_K.outerSize(), slack));
+    const Eigen::Index old = m_K.rows();
+    if (old >= n) return;
+    m_K.conservativeResize(n, n);
+    // New rows come last: give them room at the end of the storage by hand (Eigen's reserve
+    // would walk every row), growing the storage geometrically.
+    int* outer = m_K.outerIndexPtr();
+    const Eigen::Index base = outer[old], add = (n - old) * room;
+    if (base + add > m_K.data().allocatedSize())
+        m_K.data().reserve(std::max<Eigen::Index>(base + add - m_K.data().size(), m_K.data().size() / 2));
+    m_K.data().resize(base + add);
+    for (Eigen::Index r = old; r <= n; ++r) {
+        outer[r] = static_cast<int>(base + (r - old) * room);
+        if (r < n) m_K.innerNonZeroPtr()[r] = 0;
+    }
+}
+
 void FemModel::set_block(std::size_t a, std::size_t b, const Mat3& block) {
     for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 3; ++j)
-            m_K.coeffRef(static_cast<Eigen::Index>(3 * a) + i, static_cast<Eigen::Index>(3 * b) + j) = block(i, j);
+            set_entry(m_K, static_cast<Eigen::Index>(3 * a) + i, static_cast<Eigen::Index>(3 * b) + j, block(i, j));
 }
 
 // === Time
@@ -1198,19 +1246,20 @@ void FemModel::move_vertex(VertexId v, const mesh::NewVertex& to, const Vec3& to
     m_x.load_norm = m_xdot.load_norm = -1;
 }
 
-std::vector<VertexId> FemModel::cut(const std::vector<std::array<char, 3>>& marks) {
+std::vector<std::pair<VertexId, VertexId>> FemModel::cut(const std::vector<std::pair<FaceId, int>>& edges) {
     const std::size_t nv_before = m_mesh.num_vertices();
-    std::vector<VertexId> origin = mesh::cut_along(m_mesh, marks);
+    const auto copies = mesh::cut_edges(
+        m_mesh, edges, [&](VertexId v) -> const std::vector<std::uint32_t>& { return m_incident[ix(v)]; });
     const std::size_t nv = m_mesh.num_vertices();
     if (nv == nv_before) {
         // Nothing opened (a cut with both ends inside the mesh): the topology is unchanged.
-        return origin;
+        return copies;
     }
     // Copies inherit everything per vertex; the faces moved to them change nothing else.
     std::vector<std::size_t> vertices;
     std::vector<FaceId> faces;
-    for (std::size_t v = nv_before; v < nv; ++v) {
-        const std::size_t o = ix(origin[v]);
+    for (const auto& [copy, origin] : copies) {
+        const std::size_t v = ix(copy), o = ix(origin);
         m_normal.push_back(m_normal[o]);
         m_thickness.push_back(m_thickness[o]);
         m_x.values.push_back(m_x.values[o]);
@@ -1233,7 +1282,7 @@ std::vector<VertexId> FemModel::cut(const std::vector<std::array<char, 3>>& mark
     recompute_residual_at(Unknown::Position, vertices);
     recompute_residual_at(Unknown::Rate, vertices);
     m_x.load_norm = m_xdot.load_norm = -1;
-    return origin;
+    return copies;
 }
 
 } // namespace crackle::sim

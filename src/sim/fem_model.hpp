@@ -188,10 +188,10 @@ public:
     /// edge's first corner: a new vertex on the background surface, its top node interpolated
     /// between the edge's top nodes. Returns the new vertex and every face created or changed.
     std::pair<mesh::VertexId, std::vector<mesh::FaceId>> split_edge(mesh::FaceId f, int edge, double t);
-    /// Opens cracks along marked edges (`marks[f][k]`, both sides alike): vertices on a crack
-    /// are duplicated so the faces on either side no longer share the edge (mesh::cut_along);
-    /// copies inherit position, top node and rate. Returns the origin of every vertex.
-    std::vector<mesh::VertexId> cut(const std::vector<std::array<char, 3>>& marks);
+    /// Opens cracks along edges (one side (face, edge) of each): vertices on a crack are
+    /// duplicated so the faces on either side no longer share the edge (mesh::cut_edges, local);
+    /// copies inherit position, top node and rate. Returns (copy, origin) per new vertex.
+    std::vector<std::pair<mesh::VertexId, mesh::VertexId>> cut(const std::vector<std::pair<mesh::FaceId, int>>& edges);
     /// Moves vertex v's background point to `to` (same topology; periodic offsets of its faces
     /// follow), its top node and rate to the given values; rebuilds its elements. This is the
     /// thesis' edge collapse onto a fracture plane (§5.7.5) seen from the surviving vertex.
@@ -256,6 +256,8 @@ private:
     SolveStats relax_field_local(Unknown u, const std::vector<std::size_t>& seeds, double& radius,
                                  const LocalRelaxOptions& options);
     void set_block(std::size_t a, std::size_t b, const Mat3& block);
+    /// Adds rows and columns up to n (uncompressed, with room in every row).
+    void grow_rows(Eigen::Index n);
     void invalidate_residuals();
 
     mesh::SurfaceMesh m_mesh;
