@@ -13,6 +13,7 @@
 #include <deque>
 #include <limits>
 #include <map>
+#include <sstream>
 
 namespace crackle::fracture {
 
@@ -186,19 +187,21 @@ bool on_border(const sim::FemModel& model, std::size_t v) {
     return false;
 }
 
-/// A crack tip: a vertex on exactly one crack edge, i.e. two border edges at it whose far
-/// ends are copies of one point (the two lips of a slit).
+/// A crack tip: a vertex on exactly one crack edge, i.e. two border edges at it that run the
+/// same way (the two lips of a slit; one lip may have been subdivided, so compare
+/// directions, not end points).
 bool is_tip(const sim::FemModel& model, std::size_t v) {
     const mesh::SurfaceMesh& m = model.mesh();
-    std::vector<Vec3> far;
+    std::vector<Vec3> out;
     for (std::uint32_t f : model.incident_faces(v)) {
         const int k = corner_of(m, f, v);
+        const Vec3 p = m.corner_position(face_id(f), k);
         if (m.neighbor(face_id(f), k).face == mesh::NO_FACE)
-            far.push_back(m.positions[m.faces[face_id(f)].v[static_cast<std::size_t>((k + 1) % 3)]]);
+            out.push_back((m.corner_position(face_id(f), (k + 1) % 3) - p).normalized());
         if (m.neighbor(face_id(f), (k + 2) % 3).face == mesh::NO_FACE)
-            far.push_back(m.positions[m.faces[face_id(f)].v[static_cast<std::size_t>((k + 2) % 3)]]);
+            out.push_back((m.corner_position(face_id(f), (k + 2) % 3) - p).normalized());
     }
-    return far.size() == 2 && far[0] == far[1];
+    return out.size() == 2 && out[0].dot(out[1]) > 1 - 1e-9;
 }
 
 /// The loop's state.
@@ -229,13 +232,20 @@ private:
     bool open_edges(const std::vector<std::pair<std::size_t, std::size_t>>& edges, std::vector<FaceId>& touched);
 
     // === Steps
+    /// §5.7.6: subdivides the elements around vertex v (its own and one ring of neighbours)
+    /// until none is longer than simulation.min_element_size; relaxes and refreshes stresses.
+    /// Returns whether anything was subdivided.
+    bool refine_vicinity(std::size_t v);
     bool extend_tip(std::size_t tip, Event& ev);
-    bool start_fracture(std::size_t v, double ratio, Event& ev);
+    enum class Start { Opened, Refined, Blocked };
+    Start start_fracture(std::size_t v, double ratio, Event& ev);
     /// Relaxes around the faces; returns the vertices that moved. `released` gets the strain
     /// energy the relaxation released.
     std::vector<std::size_t> relax_near(const std::vector<FaceId>& faces, double* released = nullptr);
     void refresh_after(const std::vector<FaceId>& touched, const std::vector<std::size_t>& moved);
     bool excluded(std::size_t v) const;
+    /// Throws InvariantError if a topology change broke the mesh (SplitOptions::check_invariants).
+    void check(const char* after) const;
     bool pick_node(std::size_t& node, double& ratio);
     void update_node_ratios();
     void advance_time();
@@ -285,6 +295,43 @@ void Splitter::refresh_after(const std::vector<FaceId>& touched, const std::vect
         m_cache.refresh(ix(f));
     m_cache.refresh_around(moved);
     m_stats.stress_seconds += timer.seconds();
+}
+
+bool Splitter::refine_vicinity(std::size_t v) {
+    if (m_options.min_element_size <= 0) return false;
+    Timer timer;
+    std::vector<FaceId> touched;
+    for (int round = 0; round < 32; ++round) {
+        // The vicinity: v's faces and every face sharing a vertex with them.
+        std::vector<std::uint32_t> ring;
+        for (std::uint32_t f : m_model.incident_faces(v))
+            for (VertexId w : m_model.mesh().faces[face_id(f)].v)
+                for (std::uint32_t g : m_model.incident_faces(ix(w)))
+                    ring.push_back(g);
+        std::sort(ring.begin(), ring.end());
+        ring.erase(std::unique(ring.begin(), ring.end()), ring.end());
+        constexpr std::uint32_t none = std::numeric_limits<std::uint32_t>::max();
+        std::uint32_t coarse = none;
+        double longest = m_options.min_element_size;
+        for (std::uint32_t f : ring)
+            if (m_model.alive(face_id(f)) && m_model.element_size(face_id(f)) > longest) {
+                longest = m_model.element_size(face_id(f));
+                coarse = f;
+            }
+        if (coarse == none) break;
+        const std::vector<FaceId> faces = m_model.subdivide(face_id(coarse));
+        touched.insert(touched.end(), faces.begin(), faces.end());
+        ++m_stats.subdivisions;
+    }
+    m_stats.topology_seconds += timer.seconds();
+    if (touched.empty()) return false;
+    std::sort(touched.begin(), touched.end());
+    touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
+    m_cache.resize();
+    for (FaceId f : touched)
+        m_cache.refresh(ix(f)); // new elements need σ̇ too
+    refresh_after(touched, relax_near(touched));
+    return true;
 }
 
 Splitter::CutEnd Splitter::cut_towards(std::size_t v, const Vec3& direction, std::vector<FaceId>& touched) {
@@ -376,7 +423,9 @@ bool Splitter::open_edges(const std::vector<std::pair<std::size_t, std::size_t>>
     return !copies.empty();
 }
 
-bool Splitter::start_fracture(std::size_t v, double ratio, Event& ev) {
+Splitter::Start Splitter::start_fracture(std::size_t v, double ratio, Event& ev) {
+    // Fine elements around the node first (§5.7.6); its stress is then looked at again.
+    if (refine_vicinity(v)) return Start::Refined;
     Timer timer;
     const NodalStress ns = nodal_from(m_model, v, [&](std::size_t f) { return m_cache.stress(f); });
     std::vector<FaceId> touched;
@@ -395,7 +444,7 @@ bool Splitter::start_fracture(std::size_t v, double ratio, Event& ev) {
         // Nothing opened: refresh what the cutting changed; the caller fences the node off.
         m_stats.topology_seconds += timer.seconds();
         refresh_after(touched, relax_near(touched));
-        return false;
+        return Start::Blocked;
     }
     m_stats.topology_seconds += timer.seconds();
     const std::vector<std::size_t> moved = relax_near(touched);
@@ -407,11 +456,15 @@ bool Splitter::start_fracture(std::size_t v, double ratio, Event& ev) {
     ev.kind = "split";
     ev.ratio = ratio;
     ++m_stats.splits;
-    return true;
+    return Start::Opened;
 }
 
 bool Splitter::extend_tip(std::size_t tip, Event& ev) {
     if (tip >= m_model.mesh().num_vertices() || !is_tip(m_model, tip)) return false;
+    if (refine_vicinity(tip)) {
+        m_tips.push_front(tip); // look again, on the finer mesh
+        return false;
+    }
     const NodalStress ns = nodal_from(m_model, tip, [&](std::size_t f) { return m_cache.stress(f); });
     if (ns.threshold <= 0) return false;
     // Onwards: away from the crack behind the tip (its lips' far ends).
@@ -482,6 +535,12 @@ bool Splitter::extend_tip(std::size_t tip, Event& ev) {
     ev.ratio = ns.ratio;
     ++m_stats.extensions;
     return true;
+}
+
+void Splitter::check(const char* after) const {
+    if (!m_split.check_invariants) return;
+    const std::string problem = check_split_invariants(m_model);
+    if (!problem.empty()) throw InvariantError(std::string("fem-split, after ") + after + ": " + problem);
 }
 
 bool Splitter::excluded(std::size_t v) const {
@@ -669,16 +728,19 @@ std::vector<Event> Splitter::run(bool& capped) {
             m_tips.pop_front();
             Event ev;
             if (extend_tip(tip, ev)) events.push_back(ev);
+            check("a crack-tip step");
             continue;
         }
         std::size_t node = 0;
         double ratio = 0;
         if (pick_node(node, ratio)) {
             Event ev;
-            if (start_fracture(node, ratio, ev))
+            const Start started = start_fracture(node, ratio, ev);
+            if (started == Start::Opened)
                 events.push_back(ev);
-            else
+            else if (started == Start::Blocked)
                 m_zones.push_back(m_model.mesh().positions[vertex_id(node)]); // nowhere to cut
+            check("a new fracture");
             continue;
         }
         if (m_model.time() >= m_options.duration) break;
@@ -689,6 +751,40 @@ std::vector<Event> Splitter::run(bool& capped) {
 }
 
 } // namespace
+
+std::string check_split_invariants(const sim::FemModel& model) {
+    const mesh::SurfaceMesh& m = model.mesh();
+    std::string problem = m.validate();
+    if (!problem.empty()) return problem;
+    std::ostringstream os;
+    for (std::size_t f = 0; f < m.num_faces(); ++f) {
+        for (VertexId w : m.faces[face_id(f)].v) {
+            const auto& list = model.incident_faces(ix(w));
+            if (std::find(list.begin(), list.end(), static_cast<std::uint32_t>(f)) == list.end()) {
+                os << "face " << f << " is missing from the incidence list of its vertex " << ix(w);
+                return os.str();
+            }
+        }
+        if (!model.alive(face_id(f))) continue;
+        const auto p = m.face_positions(face_id(f));
+        const Vec3 c = (p[0] + p[1] + p[2]) / 3.0;
+        if ((p[1] - p[0]).cross(p[2] - p[0]).dot(model.surface().frame(c).n) <= 0) {
+            os << "face " << f << " is inverted or degenerate at t = 0";
+            return os.str();
+        }
+        if (!(sim::wedge::volume(model.reference_nodes(face_id(f))) > 0)) {
+            os << "element " << f << " has a non-positive reference volume";
+            return os.str();
+        }
+    }
+    for (std::size_t v = 0; v < m.num_vertices(); ++v)
+        for (std::uint32_t f : model.incident_faces(v))
+            if (corner_of(m, f, v) < 0) {
+                os << "vertex " << v << " lists face " << f << " which does not contain it";
+                return os.str();
+            }
+    return {};
+}
 
 NodalStress nodal_stress(const sim::FemModel& model, std::size_t vertex) {
     return nodal_from(model, vertex, [&](std::size_t f) { return model.top_stress(face_id(f)); });

@@ -26,7 +26,16 @@ struct SplitOptions {
     double exclusion_radius = -1;
     /// Griffith's test at tips (Alg. 11); false: tips always extend while stress > threshold.
     bool griffith = true;
+    /// Check the mesh invariants (check_split_invariants) after every topology change and
+    /// throw InvariantError on the first violation: O(mesh) per event, for tests and debugging.
+    bool check_invariants = false;
 };
+
+/// The invariants a fem-split model keeps through every topology change: the surface mesh is
+/// valid (conforming, manifold, consistently oriented, adjacency symmetric), every alive
+/// element has a positive reference volume and a positively oriented bottom triangle, and
+/// vertex→face incidence matches the faces. Returns "" when they hold, else the first problem.
+std::string check_split_invariants(const sim::FemModel& model);
 
 /// Runs the splitting model from the model's current time to `options.duration`; ties between
 /// equally stressed nodes are broken with `rng`. Returns the pattern (cracks are open mesh

@@ -140,7 +140,7 @@ std::vector<KeySpec> build_schema() {
                          "\"image\"."));
     }
     // === [simulation]
-    s.push_back(choice("simulation", "method", "fem-remove", {"mass-spring", "fem-remove", "fem-split", "graph-fem"},
+    s.push_back(choice("simulation", "method", "fem-split", {"mass-spring", "fem-remove", "fem-split", "graph-fem"},
                        "Fracture model: mass-spring (fast baseline, lattice-biased), fem-remove (element removal), "
                        "fem-split (element splitting, the quality default), graph-fem (remeshing-free)."));
     s.push_back(integer("simulation", "elements", 8000, "", 32, 2.0e6,

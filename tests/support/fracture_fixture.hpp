@@ -2,6 +2,7 @@
 /// @file Small fracture runs for tests.
 
 #include "fracture/fem_remove.hpp"
+#include "fracture/fem_split.hpp"
 #include "fracture/statistics.hpp"
 #include "support/fem_fixture.hpp"
 
@@ -30,6 +31,19 @@ inline FractureRun run_removal(const LayerSpec& spec, double duration = 1.0, dou
     Rng rng(s.seed, RngStream::Fracture);
     FractureRun r;
     r.pattern = fracture::run_fem_remove(*layer.model, o, rng, &r.run);
+    r.stats = fracture::pattern_statistics(r.pattern);
+    return r;
+}
+
+/// A fem-split run on the layer; invariants are checked after every topology change.
+inline FractureRun run_split(const LayerSpec& spec, double duration = 1.0, fracture::SplitOptions split = {},
+                             fracture::FractureOptions options = {}) {
+    Layer layer(spec);
+    options.duration = duration;
+    split.check_invariants = true;
+    Rng rng(spec.seed, RngStream::Fracture);
+    FractureRun r;
+    r.pattern = fracture::run_fem_split(*layer.model, options, split, rng, &r.run);
     r.stats = fracture::pattern_statistics(r.pattern);
     return r;
 }

@@ -165,30 +165,42 @@ TEST_SUITE("app") {
         CHECK(thickness_max < 0.0151);
     }
 
-    TEST_CASE("cli: simulate runs fem-remove on plane and cylinder and sphere and writes its report") {
+    TEST_CASE("cli: simulate runs fem-split (the default) and fem-remove on plane and cylinder and sphere and writes "
+              "its report") {
         const auto dir = test::scratch_dir("cli-simulate");
-        for (const char* preset : {"mud", "bark", "fruit"}) {
-            CAPTURE(preset);
-            const fs::path json = dir / (std::string(preset) + ".json");
-            const fs::path csv = dir / (std::string(preset) + ".csv");
-            const fs::path png = dir / (std::string(preset) + ".png");
-            const auto r = run_cli({"simulate", preset, "--set", "simulation.elements=400", "--json", json.string(),
-                                    "--events", csv.string(), "--png", png.string(), "--png-size", "64"});
-            REQUIRE(r.code == 0);
-            CHECK(contains(r.out, "fragments"));
-            const std::string report = test::slurp(json);
-            // The field names fixed in design.md.
-            for (const char* field :
-                 {"\"method\": \"fem-remove\"", "\"seed\"", "\"elements_initial\"", "\"elements_final\"", "\"nodes\"",
-                  "\"fracture_events\"", "\"fragments\"", "\"mean_fragment_area\"", "\"crack_length_per_area\"",
-                  "\"anisotropy\"", "\"dominant_angle_deg\"", "\"psi6\"", "\"t_junction_fraction\"",
-                  "\"y_junction_fraction\"", "\"min_angle_deg\"", "\"wall_seconds\"", "\"peak_memory_mb\""})
-                CHECK_MESSAGE(contains(report, field), field);
-            const std::string events = test::slurp(csv);
-            CHECK(events.rfind("time,x,y,z,u,v,kind,ratio\n", 0) == 0);
-            CHECK(std::count(events.begin(), events.end(), '\n') > 5);
-            CHECK(test::slurp(png).substr(1, 3) == "PNG");
-        }
+        for (const char* preset : {"mud", "bark", "fruit"})
+            for (const std::string method : {"fem-split", "fem-remove"}) {
+                CAPTURE(preset);
+                CAPTURE(method);
+                const std::string stem = std::string(preset) + "-" + method;
+                const fs::path json = dir / (stem + ".json");
+                const fs::path csv = dir / (stem + ".csv");
+                const fs::path png = dir / (stem + ".png");
+                std::vector<std::string> args{"simulate", preset,        "--set",      "simulation.elements=400",
+                                              "--json",   json.string(), "--events",   csv.string(),
+                                              "--png",    png.string(),  "--png-size", "64"};
+                if (method != "fem-split") args.insert(args.end(), {"--set", "simulation.method=" + method});
+                const auto r = run_cli(args);
+                REQUIRE(r.code == 0);
+                CHECK(contains(r.out, "fragments"));
+                const std::string report = test::slurp(json);
+                CHECK(contains(report, "\"method\": \"" + method + "\""));
+                if (method == "fem-split") {
+                    CHECK(number_field(report, "splits") > 0);
+                    CHECK(number_field(report, "tip_extensions") > 0);
+                }
+                // The field names fixed in design.md.
+                for (const char* field :
+                     {"\"seed\"", "\"elements_initial\"", "\"elements_final\"", "\"nodes\"", "\"fracture_events\"",
+                      "\"fragments\"", "\"mean_fragment_area\"", "\"crack_length_per_area\"", "\"anisotropy\"",
+                      "\"dominant_angle_deg\"", "\"psi6\"", "\"t_junction_fraction\"", "\"y_junction_fraction\"",
+                      "\"min_angle_deg\"", "\"wall_seconds\"", "\"peak_memory_mb\""})
+                    CHECK_MESSAGE(contains(report, field), field);
+                const std::string events = test::slurp(csv);
+                CHECK(events.rfind("time,x,y,z,u,v,kind,ratio\n", 0) == 0);
+                CHECK(std::count(events.begin(), events.end(), '\n') > 5);
+                CHECK(test::slurp(png).substr(1, 3) == "PNG");
+            }
     }
 
     TEST_CASE("cli: simulate and bake run mass-spring on plane and cylinder and sphere") {

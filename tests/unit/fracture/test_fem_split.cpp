@@ -1,0 +1,370 @@
+#include "fracture/fem_split.hpp"
+#include "mesh/surface_mesh.hpp"
+#include "support/fracture_fixture.hpp"
+
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <numeric>
+
+using namespace crackle;
+using test::LayerSpec;
+
+namespace {
+
+/// A 0.2 m periodic plane, 1 cm thick, E = 1 GPa, threshold 0.1 MPa.
+LayerSpec base_spec(std::uint64_t seed, std::size_t elements = 800) {
+    LayerSpec s;
+    s.size = Vec2(0.2, 0.2);
+    s.elements = elements;
+    s.seed = seed;
+    return s;
+}
+
+double mean(const std::vector<double>& v) {
+    return std::accumulate(v.begin(), v.end(), 0.0) / double(v.size());
+}
+
+/// One side (face, edge) of the edge p→q or q→p, found through p's faces.
+std::pair<mesh::FaceId, int> find_edge(const sim::FemModel& model, std::size_t p, std::size_t q) {
+    for (std::uint32_t f : model.incident_faces(p)) {
+        const mesh::Face& face = model.mesh().faces[mesh::face_id(f)];
+        for (int k = 0; k < 3; ++k) {
+            const std::size_t a = mesh::ix(face.v[static_cast<std::size_t>(k)]);
+            const std::size_t b = mesh::ix(face.v[static_cast<std::size_t>((k + 1) % 3)]);
+            if ((a == p && b == q) || (a == q && b == p)) return {mesh::face_id(f), k};
+        }
+    }
+    FAIL("no edge between ", p, " and ", q);
+    return {mesh::NO_FACE, -1};
+}
+
+/// A loaded layer with a crack two edges long cut through it (split an edge in the middle,
+/// then open a → m → b): the scripted change the topology tests share.
+struct CutLayer {
+    explicit CutLayer(std::uint64_t seed, std::size_t elements = 400, double size = 0.2)
+        : layer([&] {
+              LayerSpec s = base_spec(seed, elements);
+              s.size = Vec2(size, size);
+              s.growth = {sim::GrowthKind::Isogonic, 2e-4, 2e-4, 0};
+              return s;
+          }()) {
+        layer.model->set_time(0.5);
+        layer.model->relax();
+    }
+    /// Cuts; returns the vertices whose faces changed.
+    std::vector<std::size_t> cut() {
+        sim::FemModel& m = *layer.model;
+        const mesh::Face f0 = m.mesh().faces[mesh::face_id(0)];
+        const std::size_t a = mesh::ix(f0.v[0]), b = mesh::ix(f0.v[1]);
+        const auto [mid, faces] = m.split_edge(mesh::face_id(0), 0, 0.5);
+        const std::size_t mv = mesh::ix(mid);
+        const auto copies = m.cut({find_edge(m, a, mv), find_edge(m, mv, b)});
+        CHECK(copies.size() == 1); // the middle vertex opens; a and b stay the slit's tips
+        std::vector<std::size_t> seeds{a, b, mv};
+        for (const auto& [copy, origin] : copies)
+            seeds.push_back(mesh::ix(copy));
+        return seeds;
+    }
+    test::Layer layer;
+};
+
+/// Reference y of the events of a run, sorted.
+std::vector<double> event_heights(const fracture::CrackPattern& p) {
+    std::vector<double> y;
+    for (const auto& e : p.events)
+        y.push_back(e.position.y());
+    std::sort(y.begin(), y.end());
+    return y;
+}
+
+} // namespace
+
+TEST_SUITE("fracture") {
+    TEST_CASE("fem-split: a rolled-back cut restores the model exactly") {
+        CutLayer c(1);
+        sim::FemModel& m = *c.layer.model;
+        const sim::FemModel before = m;
+        m.begin_trial();
+        const auto seeds = c.cut();
+        double radius = 4;
+        m.relax_local(seeds, radius);
+        CHECK(m.mesh().num_vertices() > before.mesh().num_vertices());
+        m.rollback();
+
+        REQUIRE(m.mesh().num_vertices() == before.mesh().num_vertices());
+        REQUIRE(m.mesh().num_faces() == before.mesh().num_faces());
+        CHECK(m.mesh().validate().empty());
+        for (std::size_t f = 0; f < m.mesh().num_faces(); ++f) {
+            const auto& x = m.mesh().faces[mesh::face_id(f)];
+            const auto& y = before.mesh().faces[mesh::face_id(f)];
+            CHECK(x.v == y.v);
+            CHECK(x.offset == y.offset);
+            for (int k = 0; k < 3; ++k)
+                CHECK(m.mesh().neighbor(mesh::face_id(f), k).face == before.mesh().neighbor(mesh::face_id(f), k).face);
+        }
+        for (std::size_t v = 0; v < m.mesh().num_vertices(); ++v) {
+            CHECK(m.mesh().positions[mesh::vertex_id(v)] == before.mesh().positions[mesh::vertex_id(v)]);
+            CHECK(m.top_position(mesh::vertex_id(v)) == before.top_position(mesh::vertex_id(v)));
+            CHECK(m.incident_faces(v) == before.incident_faces(v));
+        }
+        CHECK(m.strain_energy() == before.strain_energy());
+        // The stiffness too: the same relaxation from a perturbed state lands on the same nodes.
+        sim::FemModel again = before;
+        m.set_time(0.6);
+        again.set_time(0.6);
+        m.relax();
+        again.relax();
+        double worst = 0, scale = 0;
+        for (std::size_t v = 0; v < m.mesh().num_vertices(); ++v) {
+            worst =
+                std::max(worst, (m.top_position(mesh::vertex_id(v)) - again.top_position(mesh::vertex_id(v))).norm());
+            scale = std::max(scale,
+                             (again.top_position(mesh::vertex_id(v)) - before.top_position(mesh::vertex_id(v))).norm());
+        }
+        CHECK(scale > 0);
+        CHECK(worst <= 1e-9 * scale);
+    }
+
+    TEST_CASE("fem-split: a cut keeps the strain energy; the relaxation releases exactly ½ rᵀΔx of it") {
+        CutLayer c(2);
+        sim::FemModel& m = *c.layer.model;
+        const double e0 = m.strain_energy();
+        c.cut();
+        const double e1 = m.strain_energy();
+        CHECK(e1 == doctest::Approx(e0).epsilon(1e-12)); // nodes duplicated in place
+        const sim::SolveStats s = m.relax();
+        const double e2 = m.strain_energy();
+        CHECK(e2 < e1);
+        CHECK(s.energy_release == doctest::Approx(e1 - e2).epsilon(1e-6));
+        CHECK(fracture::check_split_invariants(m).empty());
+    }
+
+    TEST_CASE("fem-split: local relaxation after a cut reaches the global solution") {
+        // A tile wide enough that the relaxed set (about 5 decay lengths 1.6h for a 1e-2
+        // force tolerance, docs/perf-limits.md) stays local.
+        CutLayer c(3, 3000, 0.5);
+        const sim::FemModel before = *c.layer.model;
+        const auto seeds = c.cut();
+        sim::FemModel global = *c.layer.model;
+        sim::FemModel& local = *c.layer.model;
+        double radius = 2;
+        const sim::SolveStats s = local.relax_local(seeds, radius);
+        global.relax();
+        CHECK(s.nodes < local.mesh().num_vertices()); // it did stay local
+        double worst = 0, moved = 0;
+        for (std::size_t v = 0; v < global.mesh().num_vertices(); ++v) {
+            const Vec3 g = global.top_position(mesh::vertex_id(v));
+            worst = std::max(worst, (local.top_position(mesh::vertex_id(v)) - g).norm());
+            if (v < before.mesh().num_vertices())
+                moved = std::max(moved, (g - before.top_position(mesh::vertex_id(v))).norm());
+        }
+        CAPTURE(worst);
+        CAPTURE(moved);
+        CHECK(moved > 0);
+        CHECK(worst < 1e-2 * moved); // the force tolerance is 1e-2 of the change
+    }
+
+    TEST_CASE("fem-split: tips extend first in first out, both ends of a new crack in turn (Fig. 5.20)") {
+        for (std::uint64_t seed : {1u, 2u}) {
+            LayerSpec s = base_spec(seed);
+            s.growth = {sim::GrowthKind::Anisotropic, 3e-4, 0.0, 0.0}; // stretch along x: cracks along y
+            s.toughness = 1;                                           // tips run while they release any energy
+            const auto r = test::run_split(s);
+            REQUIRE(r.pattern.events.size() > 6);
+            const auto& ev = r.pattern.events;
+            REQUIRE(ev[0].kind == "split");
+            // The first crack: its extensions alternate between the two ends while both live.
+            const Vec3 p = ev[0].position;
+            Vec3 d = Vec3::Zero();
+            std::vector<int> sides;
+            for (std::size_t i = 1; i < ev.size() && ev[i].kind == "extend" && sides.size() < 4; ++i) {
+                Vec3 q = ev[i].position - p;
+                for (int k = 0; k < 2; ++k) // nearest periodic image
+                    q[k] -= 0.2 * std::round(q[k] / 0.2);
+                if (d == Vec3::Zero()) d = q.normalized();
+                sides.push_back(q.dot(d) > 0 ? 1 : -1);
+            }
+            CAPTURE(seed);
+            REQUIRE(sides.size() == 4);
+            CHECK(sides[0] == 1);
+            CHECK(sides[1] == -1);
+            CHECK(sides[2] == 1);
+            CHECK(sides[3] == -1);
+            CHECK(r.run.splits > 0);
+            CHECK(r.run.extensions > r.run.splits); // cracks run on from their start
+        }
+    }
+
+    TEST_CASE("fem-split: Griffith arrest: cracks start on the strongly loaded side and stop before the weak side "
+              "(Fig. 5.21)") {
+        // E rises along y from 0.2 to 1.8 GPa (stress ∝ E under a uniform stretch along x), so
+        // cracks start near the top and run down until the released energy no longer pays
+        // for the new crack wall. Griffith's criterion does not depend on the element size.
+        auto spec = [](std::size_t elements) {
+            LayerSpec s = base_spec(1, elements);
+            s.growth = {sim::GrowthKind::Anisotropic, 8e-5, 0.0, 0.0};
+            s.toughness = 6000;
+            s.young_variation.pattern = sim::PatternKind::Gradient;
+            s.young_variation.angle_deg = 90;
+            s.young_variation.amplitude = 0.8;
+            return s;
+        };
+        std::vector<double> lowest;
+        for (std::size_t elements : {800u, 1600u}) {
+            const auto r = test::run_split(spec(elements));
+            CAPTURE(elements);
+            REQUIRE(r.run.splits > 2);
+            CHECK(r.run.arrests > 0);
+            for (const auto& e : r.pattern.events)
+                if (e.kind == "split") CHECK(e.position.y() > 0.15); // the stiff quarter
+            const auto y = event_heights(r.pattern);
+            lowest.push_back(y[y.size() / 20]); // 5th percentile: where the cracks stop
+            CHECK(lowest.back() > 0.06);        // well before the weak side
+        }
+        CAPTURE(lowest[0]);
+        CAPTURE(lowest[1]);
+        CHECK(std::abs(lowest[0] - lowest[1]) < 0.03); // 15 % of the tile across a 2× refinement
+        // With a negligible toughness the same cracks run through the weak side.
+        LayerSpec brittle = spec(800);
+        brittle.toughness = 1;
+        const auto free_run = test::run_split(brittle);
+        CHECK(event_heights(free_run.pattern).front() < 0.02);
+    }
+
+    TEST_CASE("fem-split: cuts leave no triangle below the minimum angle (edge collapse, §5.7.5)") {
+        LayerSpec s = base_spec(4);
+        s.shrinkage = {3e-4, 3e-4};
+        test::Layer probe(s);
+        const double initial = mesh::mesh_quality(probe.model->mesh()).min_angle_deg;
+        fracture::SplitOptions split;
+        const auto r = test::run_split(s, 1.0, split);
+        REQUIRE(r.run.splits > 5);
+        CHECK(r.run.collapses > 0);
+        // A split leaves ≥ min_angle; a collapse may go down to half of it; snapping adds none.
+        CAPTURE(initial);
+        CHECK(r.stats.min_angle_deg >= std::min(initial, 0.5 * split.min_angle_deg) - 1e-9);
+    }
+
+    TEST_CASE("fem-split: drying mud meets mostly at T-junctions, and isogonic growth is isotropic (Figs. 5.27-5.28)") {
+        std::vector<double> t, y, a;
+        for (std::uint64_t seed : {1u, 2u, 3u}) {
+            LayerSpec mud = base_spec(seed);
+            mud.shrinkage = {3e-4, 3e-4};
+            const auto m = test::run_split(mud);
+            CAPTURE(seed);
+            CHECK(m.stats.fragments > 10);
+            // Fragment labels agree across every intact edge.
+            const mesh::SurfaceMesh& pm = m.pattern.mesh;
+            std::size_t disagree = 0;
+            for (std::size_t f = 0; f < pm.num_faces(); ++f)
+                for (int k = 0; k < 3; ++k) {
+                    const mesh::FaceNeighbor nb = pm.neighbor(mesh::face_id(f), k);
+                    if (nb.face != mesh::NO_FACE && m.pattern.fragment[f] != m.pattern.fragment[mesh::ix(nb.face)])
+                        ++disagree;
+                }
+            CHECK(disagree == 0);
+            CHECK(m.stats.junctions > 20);
+            t.push_back(m.stats.t_junction_fraction);
+            y.push_back(m.stats.y_junction_fraction);
+            LayerSpec iso = base_spec(seed);
+            iso.growth = {sim::GrowthKind::Isogonic, 3e-4, 3e-4, 0};
+            const auto g = test::run_split(iso);
+            CHECK(g.stats.anisotropy < 0.2);
+            a.push_back(g.stats.anisotropy);
+        }
+        CHECK(mean(t) > 2 * mean(y));
+        CHECK(mean(a) < 0.1);
+    }
+
+    TEST_CASE(
+        "fem-split: crack statistics change little between two refinement levels (unlike mass-spring, Fig. 4.9)") {
+        std::vector<double> coarse, fine, area_c, area_f;
+        for (std::uint64_t seed : {1u, 2u}) {
+            LayerSpec s = base_spec(seed, 600);
+            s.shrinkage = {3e-4, 3e-4};
+            const auto c = test::run_split(s);
+            s.elements = 2400; // edges half as long
+            const auto f = test::run_split(s);
+            coarse.push_back(c.stats.crack_length_per_area);
+            fine.push_back(f.stats.crack_length_per_area);
+            area_c.push_back(c.stats.mean_fragment_area);
+            area_f.push_back(f.stats.mean_fragment_area);
+        }
+        const double length_ratio = mean(fine) / mean(coarse), area_ratio = mean(area_f) / mean(area_c);
+        CAPTURE(length_ratio);
+        CAPTURE(area_ratio);
+        CHECK(length_ratio > 0.85);
+        CHECK(length_ratio < 1.15);
+        CHECK(area_ratio > 0.7);
+        CHECK(area_ratio < 1.4);
+    }
+
+    TEST_CASE("fem-split: crack length and fragments grow monotonically in time; the run is reproducible "
+              "(Fig. 5.30)") {
+        LayerSpec s = base_spec(5);
+        s.shrinkage = {3e-4, 3e-4};
+        double last_length = 0, last_fragments = 0;
+        std::size_t last_splits = 0;
+        for (double duration : {0.5, 0.75, 1.0}) {
+            const auto r = test::run_split(s, duration);
+            CAPTURE(duration);
+            CHECK(r.stats.crack_length_per_area >= last_length);
+            CHECK(double(r.stats.fragments) >= last_fragments);
+            CHECK(r.run.splits >= last_splits);
+            last_length = r.stats.crack_length_per_area;
+            last_fragments = double(r.stats.fragments);
+            last_splits = r.run.splits;
+            for (std::size_t i = 1; i < r.pattern.events.size(); ++i)
+                CHECK(r.pattern.events[i].time >= r.pattern.events[i - 1].time);
+        }
+        CHECK(last_fragments > 5);
+        const auto a = test::run_split(s), b = test::run_split(s);
+        REQUIRE(a.pattern.events.size() == b.pattern.events.size());
+        for (std::size_t i = 0; i < a.pattern.events.size(); ++i) {
+            CHECK(a.pattern.events[i].time == b.pattern.events[i].time);
+            CHECK(a.pattern.events[i].position == b.pattern.events[i].position);
+        }
+    }
+
+    TEST_CASE("fem-split: local and global relaxation give the same pattern statistics") {
+        LayerSpec s = base_spec(6, 600);
+        s.shrinkage = {3e-4, 3e-4};
+        fracture::FractureOptions global;
+        global.local_relaxation = false;
+        const auto l = test::run_split(s);
+        const auto g = test::run_split(s, 1.0, {}, global);
+        CAPTURE(l.stats.fragments);
+        CAPTURE(g.stats.fragments);
+        CHECK(l.stats.crack_length_per_area == doctest::Approx(g.stats.crack_length_per_area).epsilon(0.1));
+        CHECK(double(l.stats.fragments) == doctest::Approx(double(g.stats.fragments)).epsilon(0.2));
+    }
+
+    TEST_CASE("fem-split: refinement around tips (§5.7.6) from a coarse mesh matches a uniform fine one") {
+        LayerSpec s = base_spec(7, 150);
+        s.shrinkage = {3e-4, 3e-4};
+        fracture::FractureOptions o;
+        o.min_element_size = 0.012;
+        const auto adaptive = test::run_split(s, 1.0, {}, o);
+        CHECK(adaptive.run.subdivisions > 0);
+        s.elements = 1000;
+        const auto uniform = test::run_split(s);
+        CAPTURE(adaptive.stats.crack_length_per_area);
+        CAPTURE(uniform.stats.crack_length_per_area);
+        CHECK(adaptive.stats.crack_length_per_area
+              == doctest::Approx(uniform.stats.crack_length_per_area).epsilon(0.2));
+    }
+
+    TEST_CASE("fem-split: cracks on a cylinder and a sphere keep the mesh valid") {
+        for (mesh::SurfaceKind kind : {mesh::SurfaceKind::Cylinder, mesh::SurfaceKind::Sphere}) {
+            LayerSpec s = base_spec(8, 800);
+            s.kind = kind;
+            s.size = kind == mesh::SurfaceKind::Sphere ? Vec2(0.06, 0.06) : Vec2(0.2, 0.2);
+            s.shrinkage = {3e-4, 3e-4};
+            const auto r = test::run_split(s);
+            CAPTURE(int(kind));
+            CHECK(r.run.splits > 3);
+            CHECK(r.stats.fragments > 1);
+        }
+    }
+}
