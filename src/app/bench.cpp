@@ -9,6 +9,7 @@
 #include "core/timer.hpp"
 #include "fracture/statistics.hpp"
 #include "io/texture_set.hpp"
+#include "mesh/surface_mesh.hpp"
 #include "post/pieces.hpp"
 #include "render/bake.hpp"
 
@@ -189,6 +190,127 @@ Json bench_mass_spring(const std::vector<std::size_t>& masses, std::size_t max_b
     return rows;
 }
 
+/// A preset run through the whole simulation stage with overrides.
+SimulationResult simulate_with(const std::string& name, const std::vector<std::string>& overrides) {
+    io::PresetRequest r;
+    r.name_or_path = name;
+    r.overrides = overrides;
+    StepTimes ignored;
+    return run_simulation(io::load_preset(r), ignored);
+}
+
+/// fem-split (§5.7-5.8): local vs global relaxation per event on the same capped run; the
+/// default mud and bark runs by phase; uniform fine mesh vs refinement from coarse (§5.7.6).
+Json bench_fem_split(bool quick, std::ostream& out) {
+    Json report = Json::object();
+    const std::vector<std::size_t> sizes =
+        quick ? std::vector<std::size_t>{2000} : std::vector<std::size_t>{5000, 20000, 50000};
+    const std::size_t cap = quick ? 100 : 300;
+    out << "\n### fem-split: local vs global relaxation per event (mud, first " << cap << " events)\n\n"
+        << "| elements | first solve | local: wall after it | events/s | nodes/event | global: wall after it | "
+           "events/s | "
+           "speed-up | fragments local / global |\n"
+        << "|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+    Json rows = Json::array();
+    for (std::size_t n : sizes) {
+        const std::vector<std::string> base = {"simulation.elements=" + std::to_string(n),
+                                               "simulation.max_events=" + std::to_string(cap)};
+        auto with = [&](const std::string& extra) {
+            std::vector<std::string> o = base;
+            o.push_back(extra);
+            return simulate_with("mud", o);
+        };
+        const SimulationResult l = with("simulation.relaxation=local");
+        const SimulationResult g = with("simulation.relaxation=global");
+        const double el = double(l.pattern.events.size()), eg = double(g.pattern.events.size());
+        // Per event: the first global solve both runs share is left out.
+        const double sec_l = l.run.total_seconds - l.run.setup_seconds,
+                     sec_g = g.run.total_seconds - g.run.setup_seconds;
+        const double rate_l = el / sec_l, rate_g = eg / sec_g;
+        const double nodes = l.run.local_solves ? double(l.run.local_nodes) / double(l.run.local_solves) : 0.0;
+        Json row = Json::object();
+        row["elements"] = l.elements_initial;
+        row["setup_seconds"] = l.run.setup_seconds;
+        row["local_seconds"] = sec_l;
+        row["local_events"] = l.pattern.events.size();
+        row["global_seconds"] = sec_g;
+        row["global_events"] = g.pattern.events.size();
+        row["local_nodes_per_event"] = nodes;
+        row["speedup"] = rate_l / rate_g;
+        out << "| " << l.elements_initial << " | " << fmt("%.2f s", l.run.setup_seconds) << " | "
+            << fmt("%.2f s", sec_l) << " | " << fmt("%.0f", rate_l) << " | " << fmt("%.0f", nodes) << " | "
+            << fmt("%.1f s", sec_g) << " | " << fmt("%.1f", rate_g) << " | " << fmt("%.1f×", rate_l / rate_g) << " | "
+            << l.statistics.fragments << " / " << g.statistics.fragments << " |\n";
+        out.flush();
+        rows.push_back(row);
+    }
+    report["local_vs_global"] = rows;
+
+    out << "\n### fem-split: default presets run to completion, by phase\n\n"
+        << "| preset | elements (start → end) | new cracks | tip extensions | arrests | wall | solve | stress | "
+           "topology | fragments | crack m/m² |\n"
+        << "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+    Json full = Json::array();
+    for (const char* name : {"mud", "bark"}) {
+        const SimulationResult r = simulate_with(name, quick ? std::vector<std::string>{"simulation.elements=2000"}
+                                                             : std::vector<std::string>{});
+        auto share = [&](double s) { return fmt("%.0f %%", 100.0 * s / r.run.total_seconds); };
+        Json row = Json::object();
+        row["preset"] = name;
+        row["elements_initial"] = r.elements_initial;
+        row["elements_final"] = r.elements_final;
+        row["splits"] = r.run.splits;
+        row["tip_extensions"] = r.run.extensions;
+        row["arrests"] = r.run.arrests;
+        row["seconds"] = r.run.total_seconds;
+        row["solve_seconds"] = r.run.solve_seconds;
+        row["stress_seconds"] = r.run.stress_seconds;
+        row["topology_seconds"] = r.run.topology_seconds;
+        row["fragments"] = r.statistics.fragments;
+        out << "| " << name << " | " << r.elements_initial << " → " << r.elements_final << " | " << r.run.splits
+            << " | " << r.run.extensions << " | " << r.run.arrests << " | " << fmt("%.1f s", r.run.total_seconds)
+            << " | " << share(r.run.solve_seconds) << " | " << share(r.run.stress_seconds) << " | "
+            << share(r.run.topology_seconds) << " | " << r.statistics.fragments << " | "
+            << fmt("%.1f", r.statistics.crack_length_per_area) << " |\n";
+        out.flush();
+        full.push_back(row);
+    }
+    report["presets"] = full;
+
+    // Uniform fine vs coarse + refinement around tips, same smallest element size.
+    out << "\n### fem-split: uniform fine mesh vs refinement around tips from coarse (§5.7.6)\n\n"
+        << "| preset | mesh | elements (start → end) | wall | fragments | crack m/m² | anisotropy |\n"
+        << "|---|---|---:|---:|---:|---:|---:|\n";
+    Json adaptive = Json::array();
+    for (const char* name : {"bark", "mud"}) {
+        const std::size_t fine = quick ? 2000 : 8000, coarse = fine / 8;
+        const SimulationResult u = simulate_with(name, {"simulation.elements=" + std::to_string(fine)});
+        // Refine down to the fine mesh's longest edges (about 1.3 × its mean edge).
+        const double size = 1.3 * mesh::mesh_quality(discretize_scene(*u.scene, nullptr)).edge_mean;
+        const SimulationResult a = simulate_with(name, {"simulation.elements=" + std::to_string(coarse),
+                                                        "simulation.min_element_size=" + fmt("%.5f", size)});
+        for (const SimulationResult* r : {&u, &a}) {
+            const bool is_u = r == &u;
+            Json row = Json::object();
+            row["preset"] = name;
+            row["mesh"] = is_u ? "uniform" : "adaptive";
+            row["elements_initial"] = r->elements_initial;
+            row["elements_final"] = r->elements_final;
+            row["seconds"] = r->run.total_seconds;
+            row["fragments"] = r->statistics.fragments;
+            row["crack_length_per_area"] = r->statistics.crack_length_per_area;
+            out << "| " << name << " | " << (is_u ? "uniform" : fmt("coarse, refined to %.4f m", size)) << " | "
+                << r->elements_initial << " → " << r->elements_final << " | " << fmt("%.1f s", r->run.total_seconds)
+                << " | " << r->statistics.fragments << " | " << fmt("%.1f", r->statistics.crack_length_per_area)
+                << " | " << fmt("%.2f", r->statistics.anisotropy) << " |\n";
+            out.flush();
+            adaptive.push_back(row);
+        }
+    }
+    report["uniform_vs_adaptive"] = adaptive;
+    return report;
+}
+
 /// The mud preset's pieces baked at several sizes: render, readback, occlusion and encoding.
 Json bench_bake(const std::vector<int>& sizes, std::ostream& out) {
     io::PresetRequest r;
@@ -235,7 +357,7 @@ Json bench_bake(const std::vector<int>& sizes, std::ostream& out) {
 } // namespace
 
 const std::vector<std::string>& bench_scenes() {
-    static const std::vector<std::string> scenes = {"solve", "fem-remove", "mass-spring", "bake"};
+    static const std::vector<std::string> scenes = {"solve", "fem-remove", "fem-split", "mass-spring", "bake"};
     return scenes;
 }
 
@@ -244,7 +366,7 @@ int bench_command(const BenchArgs& args, std::ostream& out) {
     for (const auto& s : scenes)
         if (std::find(bench_scenes().begin(), bench_scenes().end(), s) == bench_scenes().end())
             throw InputError("bench", "unknown scene '" + s + "'" + did_you_mean(s, bench_scenes()),
-                             "scenes are: solve, fem-remove, mass-spring, bake");
+                             "scenes are: solve, fem-remove, fem-split, mass-spring, bake");
     Json report = Json::object();
     report["quick"] = args.quick;
     out << "# crackle bench" << (args.quick ? " (quick)" : "") << "\n";
@@ -256,6 +378,7 @@ int bench_command(const BenchArgs& args, std::ostream& out) {
         if (s == "fem-remove")
             report["fem_remove"] = bench_fem_remove(
                 args.quick ? std::vector<std::size_t>{2000} : std::vector<std::size_t>{5000, 20000}, out);
+        if (s == "fem-split") report["fem_split"] = bench_fem_split(args.quick, out);
         if (s == "mass-spring")
             report["mass_spring"] = bench_mass_spring(args.quick ? std::vector<std::size_t>{1000}
                                                                  : std::vector<std::size_t>{1000, 4000, 16000, 64000},

@@ -106,7 +106,8 @@ int run(int argc, const char* const* argv, std::ostream& out, std::ostream& err)
     // === bench
     BenchArgs bench_args;
     CLI::App* bench = app.add_subcommand("bench", "Measure speed on fixed scenes (figures for docs/benchmarks.md)");
-    bench->add_option("SCENE", bench_args.scenes, "Scenes to run: solve, fem-remove, mass-spring, bake (default: all)");
+    bench->add_option("SCENE", bench_args.scenes,
+                      "Scenes to run: solve, fem-remove, fem-split, mass-spring, bake (default: all)");
     bench->add_flag("--quick", bench_args.quick, "Small sizes only");
     bench->add_option("--out", bench_args.out_dir, "Folder for bench.json");
 

@@ -189,6 +189,7 @@ Json simulation_report(const io::Preset& preset, const SimulationResult& r, cons
         report["tip_arrests"] = r.run.arrests;
         report["edge_collapses"] = r.run.collapses;
         report["snapped_cuts"] = r.run.snaps;
+        report["smoothing_moves"] = r.run.smoothed;
     }
     report["time_steps"] = r.run.time_steps;
     report["solves"] = r.run.solves;
@@ -234,7 +235,8 @@ void print_simulation(std::ostream& out, const io::Preset& preset, const Simulat
     else if (r.pattern.method == "fem-split")
         out << "  elements     " << r.elements_initial << " initial, " << r.elements_final << " at the end; "
             << r.run.splits << " new cracks, " << r.run.extensions << " tip extensions, " << r.run.arrests
-            << " arrests (Griffith); " << r.run.collapses << " edge collapses, " << r.run.snaps << " snapped cuts\n";
+            << " arrests (Griffith); " << r.run.collapses << " edge collapses, " << r.run.snaps << " snapped cuts, "
+            << r.run.smoothed << " smoothing moves\n";
     else
         out << "  elements     " << r.elements_initial << " initial, " << r.elements_final << " intact at the end ("
             << r.run.removals << " removed, " << r.run.subdivisions << " subdivisions)\n";

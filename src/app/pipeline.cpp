@@ -5,6 +5,7 @@
 #include "fracture/fem_split.hpp"
 #include "fracture/mass_spring.hpp"
 
+#include <cstdlib>
 #include <filesystem>
 
 namespace crackle::app {
@@ -93,6 +94,10 @@ SimulationResult run_simulation(const io::Preset& preset, StepTimes& times) {
             split.min_angle_deg = preset.number("simulation.min_angle");
             split.exclusion_radius = preset.number("simulation.exclusion_radius");
             split.griffith = preset.flag("simulation.griffith");
+            split.smoothing_radius = preset.number("simulation.smoothing_radius");
+            // Debugging aid: check the mesh invariants after every topology change (slow).
+            const char* check = std::getenv("CRACKLE_CHECK_INVARIANTS");
+            split.check_invariants = check && std::string(check) == "1";
             r.pattern = fracture::run_fem_split(model, fracture_options(preset), split, rng, &r.run);
         }
         times.emplace_back("fracture", step.seconds());

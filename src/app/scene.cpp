@@ -114,6 +114,7 @@ fracture::FractureOptions fracture_options(const io::Preset& preset) {
     o.duration = preset.number("simulation.duration");
     o.min_element_size = preset.number("simulation.min_element_size");
     o.max_events = static_cast<std::size_t>(preset.integer("simulation.max_events"));
+    o.local_relaxation = preset.text("simulation.relaxation") == "local";
     return o;
 }
 

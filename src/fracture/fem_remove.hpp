@@ -27,12 +27,14 @@ struct RunStats {
     /// fem-split: new fractures, accepted and rejected (Griffith) tip extensions, cuts moved
     /// onto a vertex by edge collapse, cuts snapped to a vertex that could not move.
     std::size_t splits = 0, extensions = 0, arrests = 0, collapses = 0, snaps = 0;
+    std::size_t smoothed = 0; ///< fem-split: node moves by angle-based smoothing (§5.7.9)
     long long solver_iterations = 0;
     std::size_t local_solves = 0, local_nodes = 0, local_fallbacks = 0, global_cleanups = 0;
     double solve_seconds = 0;    ///< equilibrium: local and global solves, moving along the rate
     double stress_seconds = 0;   ///< stress evaluation, candidate search, Alg. 5's bracketing
     double topology_seconds = 0; ///< removing and subdividing elements, matrix updates
     double total_seconds = 0;
+    double setup_seconds = 0; ///< fem-split: the first global solve and stress evaluation (in total_seconds)
 };
 
 /// Runs the element-removal model from the model's current time to `options.duration`.

@@ -214,6 +214,8 @@ public:
             h += model.vertex_thickness(vertex_id(v));
         h /= static_cast<double>(std::max<std::size_t>(model.mesh().num_vertices(), 1));
         m_exclusion = split.exclusion_radius >= 0 ? split.exclusion_radius : h;
+        m_smoothing =
+            split.smoothing_radius >= 0 ? split.smoothing_radius : 1.5 * mesh::mesh_quality(model.mesh()).edge_mean;
         m_radius = initial_radius(model, m_local.tolerance);
         m_rate_radius = m_radius;
     }
@@ -237,6 +239,13 @@ private:
     /// Returns whether anything was subdivided.
     bool refine_vicinity(std::size_t v);
     bool extend_tip(std::size_t tip, Event& ev);
+    /// §5.7.9: angle-based smoothing (Zhou & Shimada) of the free nodes near a new tip; each
+    /// move keeps the node on the surface, re-interpolates its top node and is taken only if
+    /// it improves the worst angle of its elements. Relaxes and refreshes what moved.
+    void smooth_near(std::size_t tip);
+    /// Where vertex v would go under one angle-based smoothing step: a face of its fan and
+    /// barycentric coordinates in it; false if v is not free or no better place exists.
+    bool smoothing_target(std::size_t v, std::size_t& face, Vec3& bary) const;
     enum class Start { Opened, Refined, Blocked };
     Start start_fracture(std::size_t v, double ratio, Event& ev);
     /// Relaxes around the faces; returns the vertices that moved. `released` gets the strain
@@ -257,7 +266,7 @@ private:
     RunStats& m_stats;
     StressCache m_cache;
     sim::LocalRelaxOptions m_local;
-    double m_radius = 4, m_rate_radius = 4, m_exclusion = 0.01, m_last_step = 1e-3;
+    double m_radius = 4, m_rate_radius = 4, m_exclusion = 0.01, m_smoothing = 0, m_last_step = 1e-3;
     std::deque<std::size_t> m_tips;
     std::vector<Vec3> m_zones; // reference positions of arrested tips
     std::vector<std::size_t> m_rate_seeds;
@@ -332,6 +341,111 @@ bool Splitter::refine_vicinity(std::size_t v) {
         m_cache.refresh(ix(f)); // new elements need σ̇ too
     refresh_after(touched, relax_near(touched));
     return true;
+}
+
+bool Splitter::smoothing_target(std::size_t v, std::size_t& face, Vec3& bary) const {
+    const mesh::SurfaceMesh& m = m_model.mesh();
+    if (on_border(m_model, v)) return false;
+    const mesh::TangentFrame fr = m_model.surface().frame(m.positions[vertex_id(v)]);
+    // The fan in the plane, v at the origin: per face, its other corners A, B (counter-clockwise).
+    struct Wing {
+        std::size_t face;
+        int k;
+        std::size_t a, b;
+        Vec2 A, B;
+    };
+    std::vector<Wing> fan;
+    for (std::uint32_t f : m_model.incident_faces(v)) {
+        const int k = corner_of(m, f, v);
+        const auto c = local_corners(m_model, f, k, fr);
+        fan.push_back({f, k, ix(m.faces[face_id(f)].v[static_cast<std::size_t>((k + 1) % 3)]),
+                       ix(m.faces[face_id(f)].v[static_cast<std::size_t>((k + 2) % 3)]),
+                       c[static_cast<std::size_t>((k + 1) % 3)], c[static_cast<std::size_t>((k + 2) % 3)]});
+    }
+    auto angle = [](const Vec2& p, const Vec2& q) { return std::atan2(std::abs(cross2(p, q)), p.dot(q)); };
+    // Each neighbour j proposes v rotated about j onto the bisector of its two angles in the
+    // fan (Zhou & Shimada's torsion springs); the proposals are averaged.
+    Vec2 sum = Vec2::Zero();
+    int count = 0;
+    for (const Wing& w1 : fan) {
+        // j = w1's A; its other face has j as B.
+        const auto w2 = std::find_if(fan.begin(), fan.end(), [&](const Wing& w) { return w.b == w1.a; });
+        if (w2 == fan.end()) return false; // an open fan: not a free node
+        const Vec2 j = w1.A, to_v = -j;
+        const double next = angle(w1.B - j, to_v), prev = angle(w2->A - j, to_v);
+        const double delta = 0.5 * (next - prev), sign = cross2(to_v, w1.B - j) > 0 ? 1.0 : -1.0;
+        const double c = std::cos(sign * delta), s = std::sin(sign * delta);
+        sum += j + Vec2(c * to_v.x() - s * to_v.y(), s * to_v.x() + c * to_v.y());
+        ++count;
+    }
+    if (count == 0) return false;
+    const Vec2 q = sum / count;
+    // Only if it makes the worst angle of the fan better.
+    auto tri_min = [](const Vec2& p0, const Vec2& p1, const Vec2& p2) {
+        if (cross2(p1 - p0, p2 - p0) <= 0) return -1.0;
+        auto at = [](const Vec2& a, const Vec2& b, const Vec2& c) {
+            const Vec2 u = b - a, w = c - a;
+            return std::atan2(std::abs(cross2(u, w)), u.dot(w));
+        };
+        return std::min({at(p0, p1, p2), at(p1, p2, p0), at(p2, p0, p1)});
+    };
+    double before = INFINITY, after = INFINITY;
+    for (const Wing& w : fan) {
+        before = std::min(before, tri_min(Vec2::Zero(), w.A, w.B));
+        after = std::min(after, tri_min(q, w.A, w.B));
+    }
+    if (!(after > before + 1.0 * DEG_TO_RAD)) return false; // worth a re-assembly: at least 1°
+    for (const Wing& w : fan) {
+        const double area = cross2(w.A, w.B);
+        const double la = cross2(q, w.B) / area, lb = cross2(w.A, q) / area, l0 = 1 - la - lb;
+        if (l0 < -1e-12 || la < -1e-12 || lb < -1e-12) continue;
+        face = w.face;
+        bary[w.k] = l0;
+        bary[(w.k + 1) % 3] = la;
+        bary[(w.k + 2) % 3] = lb;
+        return true;
+    }
+    return false;
+}
+
+void Splitter::smooth_near(std::size_t tip) {
+    if (m_smoothing <= 0) return;
+    Timer timer;
+    const mesh::SurfaceMesh& m = m_model.mesh();
+    const Vec3 centre = m.positions[vertex_id(tip)];
+    // The nodes within the radius, reached through the elements around the tip.
+    std::vector<std::size_t> near{tip}, frontier{tip};
+    while (!frontier.empty()) {
+        std::vector<std::size_t> next;
+        for (std::size_t u : frontier)
+            for (std::uint32_t f : m_model.incident_faces(u))
+                for (VertexId w : m.faces[face_id(f)].v) {
+                    const std::size_t x = ix(w);
+                    if ((m.positions[w] - centre).norm() > m_smoothing) continue;
+                    if (std::find(near.begin(), near.end(), x) != near.end()) continue;
+                    near.push_back(x);
+                    next.push_back(x);
+                }
+        frontier.swap(next);
+    }
+    std::vector<FaceId> touched;
+    for (int round = 0; round < 2; ++round)
+        for (std::size_t v : near) {
+            std::size_t f = 0;
+            Vec3 bary = Vec3::Zero();
+            if (!smoothing_target(v, f, bary)) continue;
+            Vec3 top, rate;
+            const mesh::NewVertex target = m_model.face_point(face_id(f), bary, &top, &rate);
+            m_model.move_vertex(vertex_id(v), target, top, rate);
+            for (std::uint32_t g : m_model.incident_faces(v))
+                touched.push_back(face_id(g));
+            ++m_stats.smoothed;
+        }
+    m_stats.topology_seconds += timer.seconds();
+    if (touched.empty()) return;
+    std::sort(touched.begin(), touched.end());
+    touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
+    refresh_after(touched, relax_near(touched));
 }
 
 Splitter::CutEnd Splitter::cut_towards(std::size_t v, const Vec3& direction, std::vector<FaceId>& touched) {
@@ -450,7 +564,10 @@ Splitter::Start Splitter::start_fracture(std::size_t v, double ratio, Event& ev)
     const std::vector<std::size_t> moved = relax_near(touched);
     refresh_after(touched, moved);
     for (std::size_t e : ends)
-        if (is_tip(m_model, e)) m_tips.push_back(e);
+        if (is_tip(m_model, e)) {
+            m_tips.push_back(e);
+            smooth_near(e);
+        }
     ev.time = m_model.time();
     ev.position = p0;
     ev.kind = "split";
@@ -528,7 +645,10 @@ bool Splitter::extend_tip(std::size_t tip, Event& ev) {
     }
     if (trial) m_model.commit();
     refresh_after(touched, moved);
-    if (is_tip(m_model, end.vertex)) m_tips.push_back(end.vertex);
+    if (is_tip(m_model, end.vertex)) {
+        m_tips.push_back(end.vertex);
+        smooth_near(end.vertex);
+    }
     ev.time = m_model.time();
     ev.position = m_model.mesh().positions[vertex_id(end.vertex)];
     ev.kind = "extend";
@@ -705,13 +825,14 @@ void Splitter::advance_time() {
 std::vector<Event> Splitter::run(bool& capped) {
     std::vector<Event> events;
     {
-        Timer timer;
+        Timer setup, timer;
         m_stats.solver_iterations += m_model.relax().iterations + m_model.solve_rate().iterations;
         m_stats.solves += 2;
         m_stats.solve_seconds += timer.seconds();
         timer.reset();
         m_cache.refresh_all();
         m_stats.stress_seconds += timer.seconds();
+        m_stats.setup_seconds = setup.seconds();
     }
     Progress progress("fracture", m_options.duration);
     while (true) {

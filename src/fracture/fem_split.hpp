@@ -26,6 +26,10 @@ struct SplitOptions {
     double exclusion_radius = -1;
     /// Griffith's test at tips (Alg. 11); false: tips always extend while stress > threshold.
     bool griffith = true;
+    /// Angle-based smoothing (§5.7.9) of the free nodes within this distance of every new tip
+    /// (m); < 0: 1.5 × the mean starting edge length; 0: off (the default: on the mud preset
+    /// it cost 35 % more time and did not raise the worst angle, which the cuts set).
+    double smoothing_radius = 0;
     /// Check the mesh invariants (check_split_invariants) after every topology change and
     /// throw InvariantError on the first violation: O(mesh) per event, for tests and debugging.
     bool check_invariants = false;

@@ -173,6 +173,11 @@ std::vector<KeySpec> build_schema() {
     s.push_back(number("simulation", "exclusion_radius", -1.0, "m", -1.0, 100.0,
                        "fem-split only: no new crack starts within this distance of an arrested crack tip, where "
                        "the stress is singular (Ch. 6). -1 = the mean layer thickness."));
+    s.push_back(
+        number("simulation", "smoothing_radius", 0.0, "m", -1.0, 100.0,
+               "fem-split only: nodes within this distance of a new crack tip are moved towards better-shaped "
+               "elements (angle-based smoothing, §5.7.9). -1 = 1.5 × the mean starting edge length; 0 = off (the "
+               "default: it costs time and the worst angles come from the cuts themselves)."));
     s.push_back(boolean("simulation", "griffith", true,
                         "fem-split only: a crack tip extends only while the energy it releases pays for the new "
                         "crack wall (Griffith, Alg. 11, with material.toughness). false = tips run while the "
@@ -193,6 +198,10 @@ std::vector<KeySpec> build_schema() {
                         "fails with exit code 3."));
     s.push_back(integer("simulation", "max_events", 1000000, "", 1, 1.0e8,
                         "Stop after this many fracture events (a safety net; the report says when it was hit)."));
+    s.push_back(choice("simulation", "relaxation", "local", {"local", "global"},
+                       "FEM methods: after each fracture event re-solve only around it (local, §5.8: grown along "
+                       "intact elements until the leftover force is 1e-2 of the change) or the whole layer (global: "
+                       "slower, for checking)."));
     s.push_back(choice("simulation", "density", "uniform", {"uniform", "thickness"},
                        "Element density: uniform, or thickness = element size proportional to the local layer "
                        "thickness (fine elements where cracks are dense)."));

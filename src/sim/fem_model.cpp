@@ -1104,26 +1104,47 @@ double FemModel::element_size(FaceId f) const {
 
 mesh::NewVertex FemModel::point_on_edge(const mesh::SurfaceMesh& m, FaceId face, int edge, double t,
                                         std::pair<Vec3, Vec3>& top_rate) const {
+    Vec3 bary = Vec3::Zero();
+    bary[edge] = 1 - t;
+    bary[(edge + 1) % 3] = t;
+    return point_in_face(m, face, bary, top_rate);
+}
+
+mesh::NewVertex FemModel::point_in_face(const mesh::SurfaceMesh& m, FaceId face, const Vec3& bary,
+                                        std::pair<Vec3, Vec3>& top_rate) const {
     const mesh::Face& fc = m.faces[face];
-    const auto a = static_cast<std::size_t>(edge), b = static_cast<std::size_t>((edge + 1) % 3);
     mesh::NewVertex nv;
     Vec2i om = Vec2i::Zero();
     if (m.periodic) {
-        // Along the edge in the unrolled domain, mapped onto the surface.
-        const Vec2 d = (1 - t) * m.corner_domain(face, edge) + t * m.corner_domain(face, (edge + 1) % 3);
+        // In the unrolled domain, mapped onto the surface.
+        Vec2 d = Vec2::Zero();
+        for (int k = 0; k < 3; ++k)
+            d += bary[k] * m.corner_domain(face, k);
         nv.domain = Vec2(wrap(d.x(), m.period.x()), wrap(d.y(), m.period.y()));
         nv.position = m_surface.position(nv.domain);
         om = Vec2i(static_cast<int>(std::lround((d.x() - nv.domain.x()) / m.period.x())),
                    static_cast<int>(std::lround((d.y() - nv.domain.y()) / m.period.y())));
     } else {
-        nv.position =
-            m_surface.project((1 - t) * m.corner_position(face, edge) + t * m.corner_position(face, (edge + 1) % 3));
+        Vec3 p = Vec3::Zero();
+        for (int k = 0; k < 3; ++k)
+            p += bary[k] * m.corner_position(face, k);
+        nv.position = m_surface.project(p);
     }
     // The top node and its rate: interpolated in the face's periodic frame, then brought back.
-    top_rate.first = (1 - t) * (m_x.values[ix(fc.v[a])] + shift(fc.offset[a], m_time))
-                     + t * (m_x.values[ix(fc.v[b])] + shift(fc.offset[b], m_time)) - shift(om, m_time);
-    top_rate.second = (1 - t) * (m_xdot.values[ix(fc.v[a])] + shift_rate(fc.offset[a]))
-                      + t * (m_xdot.values[ix(fc.v[b])] + shift_rate(fc.offset[b])) - shift_rate(om);
+    top_rate = {-shift(om, m_time), -shift_rate(om)};
+    for (std::size_t k = 0; k < 3; ++k) {
+        const auto w = static_cast<Eigen::Index>(k);
+        top_rate.first += bary[w] * (m_x.values[ix(fc.v[k])] + shift(fc.offset[k], m_time));
+        top_rate.second += bary[w] * (m_xdot.values[ix(fc.v[k])] + shift_rate(fc.offset[k]));
+    }
+    return nv;
+}
+
+mesh::NewVertex FemModel::face_point(FaceId f, const Vec3& bary, Vec3* top, Vec3* rate) const {
+    std::pair<Vec3, Vec3> tr;
+    const mesh::NewVertex nv = point_in_face(m_mesh, f, bary, tr);
+    if (top) *top = tr.first;
+    if (rate) *rate = tr.second;
     return nv;
 }
 

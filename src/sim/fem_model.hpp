@@ -199,6 +199,8 @@ public:
     /// The point at parameter t of a face's edge (as split_edge would place it) and its
     /// interpolated top node and rate, in the point's canonical frame.
     mesh::NewVertex edge_point(mesh::FaceId f, int edge, double t, Vec3* top = nullptr, Vec3* rate = nullptr) const;
+    /// The same for a point inside a face, given by barycentric coordinates (corner order).
+    mesh::NewVertex face_point(mesh::FaceId f, const Vec3& bary, Vec3* top = nullptr, Vec3* rate = nullptr) const;
     /// Starts a trial: every change from here on (topology, stiffness, positions) can be undone
     /// by rollback() — fem-split's Griffith test of a tip extension (Alg. 11) — at the cost of
     /// copying the per-vertex state and recording the elements and matrix rows that change.
@@ -326,6 +328,8 @@ private:
                                            const std::vector<std::pair<Vec3, Vec3>>& tops);
     /// The new vertex at parameter t of a face's edge, and its interpolated (top, rate).
     mesh::NewVertex point_on_edge(const mesh::SurfaceMesh& m, mesh::FaceId face, int edge, double t,
+                                  std::pair<Vec3, Vec3>& top_rate) const;
+    mesh::NewVertex point_in_face(const mesh::SurfaceMesh& m, mesh::FaceId face, const Vec3& bary,
                                   std::pair<Vec3, Vec3>& top_rate) const;
 };
 

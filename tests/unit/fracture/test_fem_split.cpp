@@ -232,18 +232,23 @@ TEST_SUITE("fracture") {
         CHECK(event_heights(free_run.pattern).front() < 0.02);
     }
 
-    TEST_CASE("fem-split: cuts leave no triangle below the minimum angle (edge collapse, §5.7.5)") {
+    TEST_CASE("fem-split: cuts leave no triangle below the minimum angle (edge collapse §5.7.5 and smoothing §5.7.9)") {
         LayerSpec s = base_spec(4);
         s.shrinkage = {3e-4, 3e-4};
         test::Layer probe(s);
         const double initial = mesh::mesh_quality(probe.model->mesh()).min_angle_deg;
-        fracture::SplitOptions split;
-        const auto r = test::run_split(s, 1.0, split);
-        REQUIRE(r.run.splits > 5);
-        CHECK(r.run.collapses > 0);
-        // A split leaves ≥ min_angle; a collapse may go down to half of it; snapping adds none.
-        CAPTURE(initial);
-        CHECK(r.stats.min_angle_deg >= std::min(initial, 0.5 * split.min_angle_deg) - 1e-9);
+        for (double smoothing : {0.0, -1.0}) {
+            fracture::SplitOptions split;
+            split.smoothing_radius = smoothing; // -1: angle-based smoothing near new tips (§5.7.9)
+            const auto r = test::run_split(s, 1.0, split);
+            CAPTURE(smoothing);
+            REQUIRE(r.run.splits > 5);
+            CHECK(r.run.collapses > 0);
+            CHECK((r.run.smoothed > 0) == (smoothing != 0.0)); // and every move kept the invariants
+            // A split leaves ≥ min_angle; a collapse may go down to half of it; snapping adds none.
+            CAPTURE(initial);
+            CHECK(r.stats.min_angle_deg >= std::min(initial, 0.5 * split.min_angle_deg) - 1e-9);
+        }
     }
 
     TEST_CASE("fem-split: drying mud meets mostly at T-junctions, and isogonic growth is isotropic (Figs. 5.27-5.28)") {
