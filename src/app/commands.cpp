@@ -190,6 +190,7 @@ Json simulation_report(const io::Preset& preset, const SimulationResult& r, cons
         report["edge_collapses"] = r.run.collapses;
         report["snapped_cuts"] = r.run.snaps;
         report["smoothing_moves"] = r.run.smoothed;
+        report["von_mises_refinements"] = r.run.vm_refinements;
     }
     report["time_steps"] = r.run.time_steps;
     report["solves"] = r.run.solves;

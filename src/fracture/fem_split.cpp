@@ -238,6 +238,9 @@ private:
     /// until none is longer than simulation.min_element_size; relaxes and refreshes stresses.
     /// Returns whether anything was subdivided.
     bool refine_vicinity(std::size_t v);
+    /// §5.7.7 (Alg. 13): subdivides the elements around nodes whose elements disagree on the
+    /// von Mises stress there by more than vm_threshold of the largest principal stress.
+    void refine_by_von_mises();
     bool extend_tip(std::size_t tip, Event& ev);
     /// §5.7.9: angle-based smoothing (Zhou & Shimada) of the free nodes near a new tip; each
     /// move keeps the node on the surface, re-interpolates its top node and is taken only if
@@ -341,6 +344,55 @@ bool Splitter::refine_vicinity(std::size_t v) {
         m_cache.refresh(ix(f)); // new elements need σ̇ too
     refresh_after(touched, relax_near(touched));
     return true;
+}
+
+void Splitter::refine_by_von_mises() {
+    if (m_split.vm_threshold <= 0 || m_options.min_element_size <= 0) return;
+    Timer timer;
+    const mesh::SurfaceMesh& m = m_model.mesh();
+    auto von_mises = [](const sim::wedge::Vec6& s) {
+        return std::sqrt(0.5 * (sqr(s[0] - s[1]) + sqr(s[1] - s[2]) + sqr(s[2] - s[0]))
+                         + 3.0 * (sqr(s[3]) + sqr(s[4]) + sqr(s[5])));
+    };
+    double max_eig = 0;
+    for (std::size_t f = 0; f < m.num_faces(); ++f)
+        for (const sim::wedge::Vec6& s : m_cache.stress(f))
+            max_eig = std::max(max_eig, std::abs(sim::wedge::max_principal(s).value));
+    if (max_eig <= 0) return;
+    std::vector<std::uint32_t> marked;
+    for (std::size_t v = 0; v < m.num_vertices(); ++v) {
+        double lo = INFINITY, hi = -INFINITY;
+        for (std::uint32_t f : m_model.incident_faces(v)) {
+            const double vm = von_mises(m_cache.stress(f)[static_cast<std::size_t>(corner_of(m, f, v))]);
+            lo = std::min(lo, vm);
+            hi = std::max(hi, vm);
+        }
+        if (hi - lo > m_split.vm_threshold * max_eig)
+            for (std::uint32_t f : m_model.incident_faces(v))
+                if (m_model.element_size(face_id(f)) > m_options.min_element_size) marked.push_back(f);
+    }
+    std::sort(marked.begin(), marked.end());
+    marked.erase(std::unique(marked.begin(), marked.end()), marked.end());
+    // Longest first, and each only if an earlier bisection has not already made it small.
+    std::sort(marked.begin(), marked.end(), [&](std::uint32_t a, std::uint32_t b) {
+        return m_model.element_size(face_id(a)) > m_model.element_size(face_id(b));
+    });
+    std::vector<FaceId> touched;
+    for (std::uint32_t f : marked) {
+        if (m_model.element_size(face_id(f)) <= m_options.min_element_size) continue;
+        const std::vector<FaceId> faces = m_model.subdivide(face_id(f));
+        touched.insert(touched.end(), faces.begin(), faces.end());
+        ++m_stats.subdivisions;
+        ++m_stats.vm_refinements;
+    }
+    m_stats.topology_seconds += timer.seconds();
+    if (touched.empty()) return;
+    std::sort(touched.begin(), touched.end());
+    touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
+    m_cache.resize();
+    for (FaceId f : touched)
+        m_cache.refresh(ix(f));
+    refresh_after(touched, relax_near(touched));
 }
 
 bool Splitter::smoothing_target(std::size_t v, std::size_t& face, Vec3& bary) const {
@@ -866,6 +918,8 @@ std::vector<Event> Splitter::run(bool& capped) {
         }
         if (m_model.time() >= m_options.duration) break;
         advance_time();
+        refine_by_von_mises();
+        check("von Mises refinement");
     }
     progress.finish();
     return events;

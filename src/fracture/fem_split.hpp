@@ -30,6 +30,11 @@ struct SplitOptions {
     /// (m); < 0: 1.5 × the mean starting edge length; 0: off (the default: on the mud preset
     /// it cost 35 % more time and did not raise the worst angle, which the cuts set).
     double smoothing_radius = 0;
+    /// Adaptive refinement by the von Mises indicator (§5.7.7, Alg. 13), once per time step:
+    /// the elements around a node are subdivided (down to FractureOptions::min_element_size)
+    /// when the spread of the von Mises stresses they report at it exceeds this share of the
+    /// largest principal stress. 0: off.
+    double vm_threshold = 0;
     /// Check the mesh invariants (check_split_invariants) after every topology change and
     /// throw InvariantError on the first violation: O(mesh) per event, for tests and debugging.
     bool check_invariants = false;

@@ -173,6 +173,10 @@ std::vector<KeySpec> build_schema() {
     s.push_back(number("simulation", "exclusion_radius", -1.0, "m", -1.0, 100.0,
                        "fem-split only: no new crack starts within this distance of an arrested crack tip, where "
                        "the stress is singular (Ch. 6). -1 = the mean layer thickness."));
+    s.push_back(number("simulation", "vm_threshold", 0.0, "", 0.0, 10.0,
+                       "fem-split only, with min_element_size: once per time step, subdivide the elements around "
+                       "nodes where they disagree on the von Mises stress by more than this share of the largest "
+                       "principal stress (§5.7.7, Alg. 13; the thesis suggests 0.1-0.2). 0 = off."));
     s.push_back(
         number("simulation", "smoothing_radius", 0.0, "m", -1.0, 100.0,
                "fem-split only: nodes within this distance of a new crack tip are moved towards better-shaped "

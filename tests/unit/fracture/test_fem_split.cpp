@@ -360,6 +360,27 @@ TEST_SUITE("fracture") {
               == doctest::Approx(uniform.stats.crack_length_per_area).epsilon(0.2));
     }
 
+    TEST_CASE("fem-split: von Mises refinement (§5.7.7) subdivides where elements disagree, down to the size limit") {
+        // Stiffness varying across the tile: neighbouring elements report different stresses.
+        LayerSpec s = base_spec(9, 200);
+        s.growth = {sim::GrowthKind::Isogonic, 2e-4, 2e-4, 0};
+        s.young_variation.pattern = sim::PatternKind::Noise;
+        s.young_variation.amplitude = 0.5;
+        s.young_variation.scale = 0.05;
+        fracture::FractureOptions o;
+        o.min_element_size = 0.015;
+        fracture::SplitOptions split;
+        split.vm_threshold = 0.05;
+        const auto with = test::run_split(s, 1.0, split, o);
+        CHECK(with.run.vm_refinements > 0);
+        CHECK(with.run.splits > 0);
+        split.vm_threshold = 0;
+        const auto without = test::run_split(s, 1.0, split, o);
+        CHECK(without.run.vm_refinements == 0);
+        // The refined run cracks like the unrefined one, not into a different pattern.
+        CHECK(with.stats.crack_length_per_area == doctest::Approx(without.stats.crack_length_per_area).epsilon(0.3));
+    }
+
     TEST_CASE("fem-split: cracks on a cylinder and a sphere keep the mesh valid") {
         for (mesh::SurfaceKind kind : {mesh::SurfaceKind::Cylinder, mesh::SurfaceKind::Sphere}) {
             LayerSpec s = base_spec(8, 800);
