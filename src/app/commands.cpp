@@ -191,6 +191,8 @@ Json simulation_report(const io::Preset& preset, const SimulationResult& r, cons
         report["snapped_cuts"] = r.run.snaps;
         report["smoothing_moves"] = r.run.smoothed;
         report["von_mises_refinements"] = r.run.vm_refinements;
+        report["tip_submodels"] = r.run.submodels;
+        report["edge_flips"] = r.run.flips;
     }
     report["time_steps"] = r.run.time_steps;
     report["solves"] = r.run.solves;
@@ -237,7 +239,7 @@ void print_simulation(std::ostream& out, const io::Preset& preset, const Simulat
         out << "  elements     " << r.elements_initial << " initial, " << r.elements_final << " at the end; "
             << r.run.splits << " new cracks, " << r.run.extensions << " tip extensions, " << r.run.arrests
             << " arrests (Griffith); " << r.run.collapses << " edge collapses, " << r.run.snaps << " snapped cuts, "
-            << r.run.smoothed << " smoothing moves\n";
+            << r.run.flips << " flips, " << r.run.smoothed << " smoothing moves\n";
     else
         out << "  elements     " << r.elements_initial << " initial, " << r.elements_final << " intact at the end ("
             << r.run.removals << " removed, " << r.run.subdivisions << " subdivisions)\n";

@@ -96,6 +96,7 @@ SimulationResult run_simulation(const io::Preset& preset, StepTimes& times) {
             split.griffith = preset.flag("simulation.griffith");
             split.smoothing_radius = preset.number("simulation.smoothing_radius");
             split.vm_threshold = preset.number("simulation.vm_threshold");
+            split.tip_submodel_levels = static_cast<int>(preset.integer("simulation.tip_submodel"));
             // Debugging aid: check the mesh invariants after every topology change (slow).
             const char* check = std::getenv("CRACKLE_CHECK_INVARIANTS");
             split.check_invariants = check && std::string(check) == "1";

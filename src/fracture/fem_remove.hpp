@@ -29,6 +29,8 @@ struct RunStats {
     std::size_t splits = 0, extensions = 0, arrests = 0, collapses = 0, snaps = 0;
     std::size_t smoothed = 0;       ///< fem-split: node moves by angle-based smoothing (§5.7.9)
     std::size_t vm_refinements = 0; ///< fem-split: bisections by the von Mises indicator (§5.7.7)
+    std::size_t submodels = 0;      ///< fem-split: temporary tip sub-models (§5.7.8)
+    std::size_t flips = 0;          ///< fem-split: edge flips of slivers near cuts (§5.7.5)
     long long solver_iterations = 0;
     std::size_t local_solves = 0, local_nodes = 0, local_fallbacks = 0, global_cleanups = 0;
     double solve_seconds = 0;    ///< equilibrium: local and global solves, moving along the rate

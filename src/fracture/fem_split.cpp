@@ -238,6 +238,12 @@ private:
     /// until none is longer than simulation.min_element_size; relaxes and refreshes stresses.
     /// Returns whether anything was subdivided.
     bool refine_vicinity(std::size_t v);
+    /// Bisects the elements of v's vicinity (its faces and one ring) until none is longer
+    /// than `size`; returns the faces created or changed (no relaxation, no cache update).
+    std::vector<FaceId> subdivide_around(std::size_t v, double size, std::size_t* calls = nullptr);
+    /// §5.7.8: the crack direction at a tip from a temporary finer sub-model around it (a
+    /// trial: refined, relaxed locally with the far nodes held, evaluated, rolled back).
+    bool submodel_direction(std::size_t tip, Vec3& crack);
     /// §5.7.7 (Alg. 13): subdivides the elements around nodes whose elements disagree on the
     /// von Mises stress there by more than vm_threshold of the largest principal stress.
     void refine_by_von_mises();
@@ -246,6 +252,10 @@ private:
     /// move keeps the node on the surface, re-interpolates its top node and is taken only if
     /// it improves the worst angle of its elements. Relaxes and refreshes what moved.
     void smooth_near(std::size_t tip);
+    /// Local edge flips (§5.7.5 [I]): an edge of a face below the minimum angle is flipped when
+    /// that raises the worst angle of its two faces, never across a crack (an open edge has no
+    /// face across it). Returns the faces changed.
+    std::vector<FaceId> flip_slivers(const std::vector<FaceId>& faces);
     /// Where vertex v would go under one angle-based smoothing step: a face of its fan and
     /// barycentric coordinates in it; false if v is not free or no better place exists.
     bool smoothing_target(std::size_t v, std::size_t& face, Vec3& bary) const;
@@ -309,11 +319,9 @@ void Splitter::refresh_after(const std::vector<FaceId>& touched, const std::vect
     m_stats.stress_seconds += timer.seconds();
 }
 
-bool Splitter::refine_vicinity(std::size_t v) {
-    if (m_options.min_element_size <= 0) return false;
-    Timer timer;
+std::vector<FaceId> Splitter::subdivide_around(std::size_t v, double size, std::size_t* calls) {
     std::vector<FaceId> touched;
-    for (int round = 0; round < 32; ++round) {
+    for (int round = 0; round < 64; ++round) {
         // The vicinity: v's faces and every face sharing a vertex with them.
         std::vector<std::uint32_t> ring;
         for (std::uint32_t f : m_model.incident_faces(v))
@@ -324,7 +332,7 @@ bool Splitter::refine_vicinity(std::size_t v) {
         ring.erase(std::unique(ring.begin(), ring.end()), ring.end());
         constexpr std::uint32_t none = std::numeric_limits<std::uint32_t>::max();
         std::uint32_t coarse = none;
-        double longest = m_options.min_element_size;
+        double longest = size;
         for (std::uint32_t f : ring)
             if (m_model.alive(face_id(f)) && m_model.element_size(face_id(f)) > longest) {
                 longest = m_model.element_size(face_id(f));
@@ -333,17 +341,57 @@ bool Splitter::refine_vicinity(std::size_t v) {
         if (coarse == none) break;
         const std::vector<FaceId> faces = m_model.subdivide(face_id(coarse));
         touched.insert(touched.end(), faces.begin(), faces.end());
-        ++m_stats.subdivisions;
+        if (calls) ++*calls;
     }
-    m_stats.topology_seconds += timer.seconds();
-    if (touched.empty()) return false;
     std::sort(touched.begin(), touched.end());
     touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
+    return touched;
+}
+
+bool Splitter::refine_vicinity(std::size_t v) {
+    if (m_options.min_element_size <= 0) return false;
+    Timer timer;
+    const std::vector<FaceId> touched = subdivide_around(v, m_options.min_element_size, &m_stats.subdivisions);
+    m_stats.topology_seconds += timer.seconds();
+    if (touched.empty()) return false;
     m_cache.resize();
     for (FaceId f : touched)
         m_cache.refresh(ix(f)); // new elements need σ̇ too
     refresh_after(touched, relax_near(touched));
     return true;
+}
+
+bool Splitter::submodel_direction(std::size_t tip, Vec3& crack) {
+    if (m_split.tip_submodel_levels <= 0) return false;
+    Timer timer;
+    double size = INFINITY;
+    for (std::uint32_t f : m_model.incident_faces(tip))
+        size = std::min(size, m_model.element_size(face_id(f)));
+    size /= std::pow(2.0, m_split.tip_submodel_levels);
+    // A trial: the finer elements, and the solution on them, are gone afterwards (§5.7.8).
+    m_model.begin_trial();
+    const std::vector<FaceId> touched = subdivide_around(tip, size);
+    bool found = false;
+    if (!touched.empty()) {
+        std::vector<std::size_t> seeds;
+        for (FaceId f : touched)
+            for (VertexId w : m_model.mesh().faces[f].v)
+                seeds.push_back(ix(w));
+        std::sort(seeds.begin(), seeds.end());
+        seeds.erase(std::unique(seeds.begin(), seeds.end()), seeds.end());
+        // Nodes outside the relaxed set stay where they are: the sub-model's fixed boundary.
+        double radius = m_radius;
+        m_model.relax_local(seeds, radius, m_local);
+        const NodalStress fine = nodal_stress(m_model, tip);
+        if (fine.threshold > 0) {
+            crack = fine.crack;
+            found = true;
+        }
+    }
+    m_model.rollback();
+    ++m_stats.submodels;
+    m_stats.stress_seconds += timer.seconds();
+    return found;
 }
 
 void Splitter::refine_by_von_mises() {
@@ -393,6 +441,40 @@ void Splitter::refine_by_von_mises() {
     for (FaceId f : touched)
         m_cache.refresh(ix(f));
     refresh_after(touched, relax_near(touched));
+}
+
+std::vector<FaceId> Splitter::flip_slivers(const std::vector<FaceId>& faces) {
+    Timer timer;
+    const mesh::SurfaceMesh& m = m_model.mesh();
+    auto worst = [&](const std::array<Vec3, 3>& p) { return min_angle(p[0], p[1], p[2]); };
+    auto positive = [&](const std::array<Vec3, 3>& p) {
+        const Vec3 c = (p[0] + p[1] + p[2]) / 3.0;
+        return (p[1] - p[0]).cross(p[2] - p[0]).dot(m_model.surface().frame(c).n) > 0;
+    };
+    std::vector<FaceId> changed;
+    for (FaceId f : faces) {
+        if (ix(f) >= m.num_faces() || worst(m.face_positions(f)) >= m_split.min_angle_deg) continue;
+        for (int k = 0; k < 3; ++k) {
+            const mesh::FaceNeighbor nb = m.neighbor(f, k);
+            if (nb.face == mesh::NO_FACE || nb.face == f) continue;
+            // The quad a, d, b, c in f's frame; the flip gives (a, d, c) and (d, b, c).
+            const Vec3 a = m.corner_position(f, k), b = m.corner_position(f, (k + 1) % 3),
+                       c = m.corner_position(f, (k + 2) % 3);
+            const Vec3 d =
+                m.corner_position(nb.face, (nb.edge + 2) % 3) + (a - m.corner_position(nb.face, (nb.edge + 1) % 3));
+            const std::array<Vec3, 3> n1{a, d, c}, n2{d, b, c};
+            if (!positive(n1) || !positive(n2)) continue; // not convex
+            const double before = std::min(worst(m.face_positions(f)), worst(m.face_positions(nb.face)));
+            if (std::min(worst(n1), worst(n2)) <= before + 1.0) continue;
+            const FaceId g = m_model.flip_edge(f, k);
+            changed.push_back(f);
+            changed.push_back(g);
+            ++m_stats.flips;
+            break; // f changed: its edges are new
+        }
+    }
+    m_stats.topology_seconds += timer.seconds();
+    return changed;
 }
 
 bool Splitter::smoothing_target(std::size_t v, std::size_t& face, Vec3& bary) const {
@@ -613,6 +695,8 @@ Splitter::Start Splitter::start_fracture(std::size_t v, double ratio, Event& ev)
         return Start::Blocked;
     }
     m_stats.topology_seconds += timer.seconds();
+    const std::vector<FaceId> flipped = flip_slivers(touched);
+    touched.insert(touched.end(), flipped.begin(), flipped.end());
     const std::vector<std::size_t> moved = relax_near(touched);
     refresh_after(touched, moved);
     for (std::size_t e : ends)
@@ -645,6 +729,7 @@ bool Splitter::extend_tip(std::size_t tip, Event& ev) {
             behind = m.corner_position(face_id(f), (k + 1) % 3) - m.corner_position(face_id(f), k);
     }
     Vec3 dir = ns.crack;
+    submodel_direction(tip, dir); // keeps ns.crack when off
     if (dir.dot(behind) > 0) dir = -dir;
     if (!m_split.griffith && ns.ratio < 1.0) return false;
 
@@ -697,6 +782,9 @@ bool Splitter::extend_tip(std::size_t tip, Event& ev) {
     }
     if (trial) m_model.commit();
     refresh_after(touched, moved);
+    // After the energy test: flips change the discrete energy at fixed nodes.
+    const std::vector<FaceId> flipped = flip_slivers(touched);
+    if (!flipped.empty()) refresh_after(flipped, relax_near(flipped));
     if (is_tip(m_model, end.vertex)) {
         m_tips.push_back(end.vertex);
         smooth_near(end.vertex);

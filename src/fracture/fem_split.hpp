@@ -35,6 +35,9 @@ struct SplitOptions {
     /// when the spread of the von Mises stresses they report at it exceeds this share of the
     /// largest principal stress. 0: off.
     double vm_threshold = 0;
+    /// The crack direction at a tip from a temporary local sub-model refined this many times
+    /// (each halving the element size) around it (§5.7.8); nothing of it stays. 0: off.
+    int tip_submodel_levels = 0;
     /// Check the mesh invariants (check_split_invariants) after every topology change and
     /// throw InvariantError on the first violation: O(mesh) per event, for tests and debugging.
     bool check_invariants = false;

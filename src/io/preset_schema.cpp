@@ -173,6 +173,11 @@ std::vector<KeySpec> build_schema() {
     s.push_back(number("simulation", "exclusion_radius", -1.0, "m", -1.0, 100.0,
                        "fem-split only: no new crack starts within this distance of an arrested crack tip, where "
                        "the stress is singular (Ch. 6). -1 = the mean layer thickness."));
+    s.push_back(
+        integer("simulation", "tip_submodel", 0, "", 0, 6,
+                "fem-split only: take each crack tip's direction from a temporary sub-model around it, refined "
+                "this many times (each halving the element size) and discarded afterwards (§5.7.8). Straighter, "
+                "less mesh-dependent cracks on coarse meshes; slower. 0 = off."));
     s.push_back(number("simulation", "vm_threshold", 0.0, "", 0.0, 10.0,
                        "fem-split only, with min_element_size: once per time step, subdivide the elements around "
                        "nodes where they disagree on the von Mises stress by more than this share of the largest "

@@ -51,6 +51,26 @@ EdgeSplit split_edge(SurfaceMesh& mesh, FaceId f, int edge, const NewVertex& nv)
     return split;
 }
 
+FaceId flip_edge(SurfaceMesh& mesh, FaceId f, int edge) {
+    const FaceNeighbor nb = mesh.neighbor(f, edge);
+    if (nb.face == NO_FACE || nb.face == f) return NO_FACE;
+    const Face F = mesh.faces[f], G = mesh.faces[nb.face];
+    const auto ka = static_cast<std::size_t>(edge), kc = static_cast<std::size_t>((edge + 2) % 3);
+    const auto gb = static_cast<std::size_t>(nb.edge), ga = static_cast<std::size_t>((nb.edge + 1) % 3),
+               gd = static_cast<std::size_t>((nb.edge + 2) % 3);
+    // Offsets: g's frame differs from f's by the shift of the shared edge's ends.
+    const Vec2i g_to_f = F.offset[ka] - G.offset[ga];
+    Face first, second;
+    first.v = {F.v[ka], G.v[gd], F.v[kc]}; // (a, d, c) in f's frame
+    first.offset = {F.offset[ka], G.offset[gd] + g_to_f, F.offset[kc]};
+    second.v = {G.v[gd], G.v[gb], F.v[kc]}; // (d, b, c) in g's frame
+    second.offset = {G.offset[gd], G.offset[gb], F.offset[kc] - g_to_f};
+    mesh.faces[f] = first;
+    mesh.faces[nb.face] = second;
+    mesh.update_adjacency({f, nb.face});
+    return nb.face;
+}
+
 int longest_edge(const SurfaceMesh& mesh, FaceId f) {
     const auto p = mesh.face_positions(f);
     const Face& face = mesh.faces[f];

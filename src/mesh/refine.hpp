@@ -29,6 +29,11 @@ struct EdgeSplit {
 /// vertex are worked out in each face's own frame. Rebuilds the adjacency.
 EdgeSplit split_edge(SurfaceMesh& mesh, FaceId f, int edge, const NewVertex& m);
 
+/// Flips edge `edge` of face f (a, b, c) with its neighbour (b, a, d) into (a, d, c) and
+/// (d, b, c), keeping each face's periodic frame; updates the adjacency. Returns the
+/// neighbour, or NO_FACE (nothing done) on a border edge. The caller checks convexity.
+FaceId flip_edge(SurfaceMesh& mesh, FaceId f, int edge);
+
 /// Index of the longest edge of a face (3D corner positions; ties broken by vertex ids so
 /// the choice is a strict order and the recursion terminates).
 int longest_edge(const SurfaceMesh& mesh, FaceId f);

@@ -1229,6 +1229,26 @@ mesh::NewVertex FemModel::edge_point(FaceId f, int edge, double t, Vec3* top, Ve
     return nv;
 }
 
+FaceId FemModel::flip_edge(FaceId f, int edge) {
+    std::vector<std::size_t> vertices;
+    for (VertexId w : m_mesh.faces[f].v)
+        vertices.push_back(ix(w));
+    const FaceId g = mesh::flip_edge(m_mesh, f, edge);
+    if (g == mesh::NO_FACE) return g;
+    for (VertexId w : m_mesh.faces[g].v)
+        vertices.push_back(ix(w));
+    std::sort(vertices.begin(), vertices.end());
+    vertices.erase(std::unique(vertices.begin(), vertices.end()), vertices.end());
+    refresh_incidence({f, g}, vertices);
+    init_element(ix(f));
+    init_element(ix(g));
+    reassemble_around(vertices);
+    recompute_residual_at(Unknown::Position, vertices);
+    recompute_residual_at(Unknown::Rate, vertices);
+    m_x.load_norm = m_xdot.load_norm = -1;
+    return g;
+}
+
 void FemModel::move_vertex(VertexId v, const mesh::NewVertex& to, const Vec3& top, const Vec3& rate) {
     const std::size_t vi = ix(v);
     if (m_mesh.periodic) {

@@ -196,6 +196,9 @@ public:
     /// follow), its top node and rate to the given values; rebuilds its elements. This is the
     /// thesis' edge collapse onto a fracture plane (§5.7.5) seen from the surviving vertex.
     void move_vertex(mesh::VertexId v, const mesh::NewVertex& to, const Vec3& top, const Vec3& rate);
+    /// Flips edge `edge` of f with the face across it (mesh::flip_edge) and rebuilds both
+    /// elements and their rows of K. Returns the other face, or NO_FACE on a border edge.
+    mesh::FaceId flip_edge(mesh::FaceId f, int edge);
     /// The point at parameter t of a face's edge (as split_edge would place it) and its
     /// interpolated top node and rate, in the point's canonical frame.
     mesh::NewVertex edge_point(mesh::FaceId f, int edge, double t, Vec3* top = nullptr, Vec3* rate = nullptr) const;

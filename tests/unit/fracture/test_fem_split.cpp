@@ -81,12 +81,16 @@ std::vector<double> event_heights(const fracture::CrackPattern& p) {
 } // namespace
 
 TEST_SUITE("fracture") {
-    TEST_CASE("fem-split: a rolled-back cut restores the model exactly") {
+    TEST_CASE("fem-split: a rolled-back cut and refinement restore the model exactly") {
         CutLayer c(1);
         sim::FemModel& m = *c.layer.model;
         const sim::FemModel before = m;
         m.begin_trial();
-        const auto seeds = c.cut();
+        auto seeds = c.cut();
+        // A local refinement too, as the tip sub-model of §5.7.8 makes and discards.
+        for (mesh::FaceId f : m.subdivide(mesh::face_id(7)))
+            for (mesh::VertexId w : m.mesh().faces[f].v)
+                seeds.push_back(mesh::ix(w));
         double radius = 4;
         m.relax_local(seeds, radius);
         CHECK(m.mesh().num_vertices() > before.mesh().num_vertices());
@@ -245,7 +249,9 @@ TEST_SUITE("fracture") {
             REQUIRE(r.run.splits > 5);
             CHECK(r.run.collapses > 0);
             CHECK((r.run.smoothed > 0) == (smoothing != 0.0)); // and every move kept the invariants
-            // A split leaves ≥ min_angle; a collapse may go down to half of it; snapping adds none.
+            CHECK(r.run.flips > 0);                            // slivers near cuts flipped away
+            // A split leaves ≥ min_angle; a collapse may go down to half of it; snapping adds none;
+            // a flip only raises the worst angle of its two faces.
             CAPTURE(initial);
             CHECK(r.stats.min_angle_deg >= std::min(initial, 0.5 * split.min_angle_deg) - 1e-9);
         }
@@ -379,6 +385,21 @@ TEST_SUITE("fracture") {
         CHECK(without.run.vm_refinements == 0);
         // The refined run cracks like the unrefined one, not into a different pattern.
         CHECK(with.stats.crack_length_per_area == doctest::Approx(without.stats.crack_length_per_area).epsilon(0.3));
+    }
+
+    TEST_CASE("fem-split: tip directions from a temporary refined sub-model (§5.7.8) keep cracks across the stretch") {
+        LayerSpec s = base_spec(3, 300); // coarse: about 1.5 cm edges on a 1 cm layer
+        s.growth = {sim::GrowthKind::Anisotropic, 3e-4, 0.0, 0.0};
+        s.toughness = 1;
+        fracture::SplitOptions split;
+        split.tip_submodel_levels = 2;
+        const auto sub = test::run_split(s, 1.0, split); // invariants checked after every step
+        const auto plain = test::run_split(s);
+        CHECK(sub.run.submodels > 0);
+        CHECK(sub.stats.anisotropy > 0.9); // cracks run along y, across the stretch
+        double d = std::abs(sub.stats.dominant_angle_deg - 90.0);
+        CHECK(std::min(d, 180.0 - d) < 10.0);
+        CHECK(sub.stats.crack_length_per_area == doctest::Approx(plain.stats.crack_length_per_area).epsilon(0.2));
     }
 
     TEST_CASE("fem-split: cracks on a cylinder and a sphere keep the mesh valid") {
