@@ -115,6 +115,7 @@ fracture::FractureOptions fracture_options(const io::Preset& preset) {
     o.min_element_size = preset.number("simulation.min_element_size");
     o.max_events = static_cast<std::size_t>(preset.integer("simulation.max_events"));
     o.local_relaxation = preset.text("simulation.relaxation") == "local";
+    o.local_tolerance = preset.number("simulation.local_tolerance");
     return o;
 }
 

@@ -104,7 +104,8 @@ CrackPattern run_fem_remove(sim::FemModel& model, const FractureOptions& options
 
     // Local radius in hops (§5.8.3). The error of a local solve decays as exp(−r/1.6h)
     // (docs/perf-limits.md), so start from the hops that cover ln(1/tol)·1.6 thicknesses.
-    const sim::LocalRelaxOptions local_options;
+    sim::LocalRelaxOptions local_options;
+    local_options.tolerance = options.local_tolerance;
     double radius = initial_radius(model, local_options.tolerance);
     double rate_radius = radius;
     std::vector<std::size_t> rate_seeds; // nodes whose rate is stale since the last time step

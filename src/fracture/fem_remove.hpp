@@ -19,6 +19,9 @@ struct FractureOptions {
     /// Re-solve only around each change (§5.8), with a global relaxation at every time step;
     /// false re-solves globally after every event.
     bool local_relaxation = true;
+    /// Local relaxation stops growing its set when the force pushed out of it is below this
+    /// share of the change's largest nodal force (sim::LocalRelaxOptions::tolerance).
+    double local_tolerance = 1e-2;
 };
 
 /// What the run did and where the time went.

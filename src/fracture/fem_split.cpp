@@ -216,6 +216,7 @@ public:
         m_exclusion = split.exclusion_radius >= 0 ? split.exclusion_radius : h;
         m_smoothing =
             split.smoothing_radius >= 0 ? split.smoothing_radius : 1.5 * mesh::mesh_quality(model.mesh()).edge_mean;
+        m_local.tolerance = options.local_tolerance;
         m_radius = initial_radius(model, m_local.tolerance);
         m_rate_radius = m_radius;
     }

@@ -209,8 +209,13 @@ std::vector<KeySpec> build_schema() {
                         "Stop after this many fracture events (a safety net; the report says when it was hit)."));
     s.push_back(choice("simulation", "relaxation", "local", {"local", "global"},
                        "FEM methods: after each fracture event re-solve only around it (local, §5.8: grown along "
-                       "intact elements until the leftover force is 1e-2 of the change) or the whole layer (global: "
+                       "intact elements until the leftover force is simulation.local_tolerance of the change) or the "
+                       "whole layer (global: "
                        "slower, for checking)."));
+    s.push_back(number("simulation", "local_tolerance", 1e-2, "", 1e-6, 0.5,
+                       "FEM methods, local relaxation: the relaxed set grows until the force left at its edge is "
+                       "below this share of the change's own. Smaller = closer to a global solve, slower (a crack's "
+                       "effect decays over about 1.6 layer thicknesses; docs/benchmarks.md)."));
     s.push_back(choice("simulation", "density", "uniform", {"uniform", "thickness"},
                        "Element density: uniform, or thickness = element size proportional to the local layer "
                        "thickness (fine elements where cracks are dense)."));
