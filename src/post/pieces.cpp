@@ -280,6 +280,40 @@ PieceMesh build_pieces(const fracture::CrackPattern& p, const PostOptions& o) {
         out.triangles.push_back({base, base + 1, base + 2});
         out.triangles.push_back({base, base + 2, base + 3});
     };
+    // A crack that does not go through the layer (mass-spring with several layers, §4.3) has
+    // walls down to its depth only and a floor there: each lip carries a ledge half the crack
+    // wide, so the two lips' ledges meet under the opening.
+    std::map<std::pair<std::uint32_t, int>, const fracture::CrackEdge*> crack_of;
+    for (const fracture::CrackEdge& c : p.cracks)
+        crack_of[{static_cast<std::uint32_t>(ix(c.face)), c.edge}] = &c;
+    auto add_ledge = [&](const PieceVertex& a, const PieceVertex& b, double width) {
+        const Vec2 m = out.tile_size;
+        const Vec2 along((b.uv - a.uv).x() * m.x(), (b.uv - a.uv).y() * m.y());
+        if (along.norm() <= 0) return;
+        const Vec2 right = Vec2(along.y(), -along.x()).normalized() * width; // metres, texture frame
+        const Vec2 right_uv(right.x() / m.x(), right.y() / m.y());
+        // Up: the top's normal made perpendicular to the lip; right: out of the piece.
+        const Vec3 t = (b.position - a.position).normalized();
+        const Vec3 n_world = (a.world_normal - a.world_normal.dot(t) * t).normalized();
+        const Vec3 right_world = t.cross(n_world) * width;
+        std::array<PieceVertex, 4> q{a, b, b, a};
+        q[2].uv += right_uv;
+        q[3].uv += right_uv;
+        q[2].position += right_world;
+        q[3].position += right_world;
+        const auto base = static_cast<std::uint32_t>(out.vertices.size());
+        for (PieceVertex& v : q) {
+            v.normal = Vec3::UnitZ();
+            v.world_normal = n_world;
+            v.crack = 1.0f;
+            v.fragment = -1;
+            out.vertices.push_back(v);
+        }
+        // Counter-clockwise seen from above: a, a + right, b + right, b.
+        out.triangles.push_back({base, base + 3, base + 2});
+        out.triangles.push_back({base, base + 2, base + 1});
+        out.floor_triangles += 2;
+    };
     for (std::size_t fi = 0; fi < topo.mesh.num_faces(); ++fi) {
         const FaceId f = face_id(fi);
         const mesh::Face& face = topo.mesh.faces[f];
@@ -287,21 +321,34 @@ PieceMesh build_pieces(const fracture::CrackPattern& p, const PostOptions& o) {
             if (topo.mesh.neighbor(f, k).face != mesh::NO_FACE) continue;
             const auto ka = static_cast<std::size_t>(k), kb = static_cast<std::size_t>((k + 1) % 3);
             const std::size_t va = ix(face.v[ka]), vb = ix(face.v[kb]);
+            const auto it = crack_of.find({topo.source_face[fi], k});
+            const fracture::CrackEdge* crack = it == crack_of.end() ? nullptr : it->second;
             std::array<PieceVertex, 4> q;
             q[0] = out.vertices[emit_top(va, face.offset[ka])];
             q[1] = out.vertices[emit_top(vb, face.offset[kb])];
+            bool partial = false;
             for (int s = 0; s < 2; ++s) {
                 const std::size_t v = s == 0 ? vb : va;
                 const Vec2i& off = s == 0 ? face.offset[kb] : face.offset[ka];
+                // Share of the way down the wall goes: depth over the local thickness.
+                const double share = crack && crack->depth > 0 ? std::min(1.0, crack->depth / thickness[v]) : 1.0;
+                partial = partial || share < 0.999;
+                const PieceVertex& top = q[static_cast<std::size_t>(1 - s)];
                 PieceVertex bot;
-                bot.uv = tops[v].bottom_uv + corner_shift_uv(off);
-                bot.height = tops[v].bottom_height;
-                bot.position = tops[v].bottom_world + world_shift(off);
+                bot.uv = top.uv + share * (tops[v].bottom_uv + corner_shift_uv(off) - top.uv);
+                bot.height = top.height + share * (tops[v].bottom_height - top.height);
+                bot.position = top.position + share * (tops[v].bottom_world + world_shift(off) - top.position);
                 bot.fragment = topo.fragment[v];
                 q[static_cast<std::size_t>(2 + s)] = bot;
             }
             add_quad(q);
             out.wall_triangles += 2;
+            if (partial && crack->opening > 0) {
+                PieceVertex a = q[3], b = q[2];
+                a.world_normal = q[0].world_normal;
+                b.world_normal = q[1].world_normal;
+                add_ledge(a, b, 0.55 * crack->opening);
+            }
         }
     }
 

@@ -1,6 +1,7 @@
 #include "fracture/fem_remove.hpp"
 #include "post/pieces.hpp"
 #include "support/fem_fixture.hpp"
+#include "support/mass_spring_fixture.hpp"
 
 #include <doctest/doctest.h>
 
@@ -47,6 +48,38 @@ TEST_SUITE("post") {
         for (const auto& tri : pieces.triangles)
             for (std::uint32_t i : tri)
                 REQUIRE(i < pieces.vertices.size());
+    }
+
+    TEST_CASE("pieces: a crack that stops inside the layer has walls down to its depth and a floor there (§4.3)") {
+        test::SpringSpec s;
+        s.layer.size = Vec2(0.2, 0.2);
+        s.layer.thickness = 0.02;
+        s.layer.young = 1e7;
+        s.layer.threshold = 2e4;
+        s.masses = 500;
+        s.options.break_jitter = 0.05;
+        s.options.layers = 3;
+        s.layer.shrinkage.top_rate = 3e-3; // the top dries first: some cracks stay shallow
+        s.layer.shrinkage.bottom_rate = 0.5e-3;
+        const auto r = test::run_springs(s);
+        const double layer = 0.02 / 3;
+        std::size_t shallow = 0;
+        for (const auto& c : r.pattern.cracks)
+            shallow += c.depth < 0.02 - 1e-9 && c.opening > 0;
+        REQUIRE(shallow > 5);
+        const post::PieceMesh pieces = post::build_pieces(r.pattern, post::PostOptions{});
+        // Heights of crack geometry are whole numbers of layers below the top (0.02 m): the
+        // background (0), or the floor of a one- or two-layer crack (1/3 or 2/3 of the way up).
+        std::size_t floors = 0;
+        for (const auto& v : pieces.vertices) {
+            if (v.crack < 0.5f) continue;
+            const double in_layers = v.height / layer;
+            CHECK(std::abs(in_layers - std::round(in_layers)) < 0.05);
+            floors += v.fragment < 0 && v.height > 0.5 * layer;
+        }
+        CHECK(floors > 0); // ledges at the depth of shallow cracks
+        CHECK(pieces.floor_triangles > 0);
+        CHECK(pieces.wall_triangles == 2 * r.pattern.cracks.size());
     }
 
     TEST_CASE("pieces: further drying opens the cracks at the top while the bottoms stay glued") {
