@@ -140,9 +140,11 @@ std::vector<KeySpec> build_schema() {
                          "\"image\"."));
     }
     // === [simulation]
-    s.push_back(choice("simulation", "method", "fem-split", {"mass-spring", "fem-remove", "fem-split", "graph-fem"},
-                       "Fracture model: mass-spring (fast baseline, lattice-biased), fem-remove (element removal), "
-                       "fem-split (element splitting, the quality default), graph-fem (remeshing-free)."));
+    s.push_back(
+        choice("simulation", "method", "fem-split", {"mass-spring", "fem-remove", "fem-split", "graph-fem"},
+               "Fracture model: fem-split (element splitting with Griffith crack tips, the default), fem-remove "
+               "(element removal: wide cracks), mass-spring (the thesis' first model: lattice-biased, "
+               "resolution-dependent), graph-fem (remeshing-free; not available yet)."));
     s.push_back(integer("simulation", "elements", 8000, "", 32, 2.0e6,
                         "Target triangle count of the starting mesh. More = finer crack detail and slower."));
     s.push_back(choice("simulation", "lattice", "random", {"random", "regular"},
