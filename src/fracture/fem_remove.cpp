@@ -196,36 +196,7 @@ CrackPattern run_fem_remove(sim::FemModel& model, const FractureOptions& options
         }
         if (model.time() >= options.duration) break;
 
-        // === The rate solution changed only around this time step's events: settle it there.
-        if (!rate_seeds.empty()) {
-            std::sort(rate_seeds.begin(), rate_seeds.end());
-            rate_seeds.erase(std::unique(rate_seeds.begin(), rate_seeds.end()), rate_seeds.end());
-            timer.reset();
-            const sim::SolveStats s = options.local_relaxation
-                                          ? model.relax_rate_local(rate_seeds, rate_radius, local_options)
-                                          : model.solve_rate();
-            stats.solver_iterations += s.iterations;
-            ++stats.solves;
-            stats.solve_seconds += timer.seconds();
-            timer.reset();
-            cache.refresh_around(model.last_updated_vertices(), true);
-            stats.stress_seconds += timer.seconds();
-            rate_seeds.clear();
-        }
-        // Local relaxations leave small forces behind; clean them up globally once they could
-        // shift a stress by 1e-3 of a threshold (the thesis relaxes globally every time step).
-        timer.reset();
-        if (options.local_relaxation && model.max_residual_force() > 1e-3 * model.force_scale()) {
-            stats.solver_iterations += model.relax().iterations + model.solve_rate().iterations;
-            stats.solves += 2;
-            stats.global_cleanups += 1;
-            stats.solve_seconds += timer.seconds();
-            timer.reset();
-            cache.refresh_all();
-            stats.stress_seconds += timer.seconds();
-        } else {
-            stats.solve_seconds += timer.seconds();
-        }
+        settle_time_step(model, cache, options, local_options, rate_radius, rate_seeds, stats);
 
         // === Alg. 5: find the time of the next fracture
         timer.reset();

@@ -857,34 +857,7 @@ bool Splitter::pick_node(std::size_t& node, double& ratio) {
 
 void Splitter::advance_time() {
     Timer timer;
-    // The rate solution changed around this step's events: settle it there (§5.8).
-    if (!m_rate_seeds.empty()) {
-        std::sort(m_rate_seeds.begin(), m_rate_seeds.end());
-        m_rate_seeds.erase(std::unique(m_rate_seeds.begin(), m_rate_seeds.end()), m_rate_seeds.end());
-        // Seeds of rolled-back extensions may name vertices that no longer exist.
-        while (!m_rate_seeds.empty() && m_rate_seeds.back() >= m_model.mesh().num_vertices())
-            m_rate_seeds.pop_back();
-        const sim::SolveStats s = m_options.local_relaxation
-                                      ? m_model.relax_rate_local(m_rate_seeds, m_rate_radius, m_local)
-                                      : m_model.solve_rate();
-        m_stats.solver_iterations += s.iterations;
-        ++m_stats.solves;
-        m_stats.solve_seconds += timer.seconds();
-        timer.reset();
-        m_cache.refresh_around(m_model.last_updated_vertices(), true);
-        m_stats.stress_seconds += timer.seconds();
-        m_rate_seeds.clear();
-    }
-    timer.reset();
-    if (m_options.local_relaxation && m_model.max_residual_force() > 1e-3 * m_model.force_scale()) {
-        m_stats.solver_iterations += m_model.relax().iterations + m_model.solve_rate().iterations;
-        m_stats.solves += 2;
-        m_stats.global_cleanups += 1;
-        m_stats.solve_seconds += timer.seconds();
-        timer.reset();
-        m_cache.refresh_all();
-        m_stats.stress_seconds += timer.seconds();
-    }
+    settle_time_step(m_model, m_cache, m_options, m_local, m_rate_radius, m_rate_seeds, m_stats);
 
     // === Alg. 5 on nodal stresses: each node's in-surface ratio is convex in time along the
     // affine solution, so bracket the first crossing and bisect.

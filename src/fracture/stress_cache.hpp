@@ -2,6 +2,8 @@
 /// @file Top-face stresses of every element of a wedge-FEM layer, cached and moved along the
 /// affine-in-time solution (shared by the FEM fracture methods).
 
+#include "core/timer.hpp"
+#include "fracture/fem_remove.hpp"
 #include "sim/fem_model.hpp"
 
 #include <algorithm>
@@ -167,6 +169,44 @@ inline double initial_radius(const sim::FemModel& model, double tolerance) {
     h /= static_cast<double>(std::max<std::size_t>(model.mesh().num_vertices(), 1));
     const double edge = mesh::mesh_quality(model.mesh()).edge_mean;
     return std::clamp(std::ceil(1.6 * std::log(1.0 / tolerance) * h / edge), 2.0, 64.0);
+}
+
+/// Once per time step (§5.8): settles the rate solution around `rate_seeds` (the vertices whose
+/// elements changed since the last step; cleared), then relaxes globally when the local
+/// relaxations have left forces that could shift a stress by 1e-3 of a threshold (the thesis
+/// relaxes globally every time step). Refreshes the cache where needed; times go to `stats`.
+inline void settle_time_step(sim::FemModel& model, StressCache& cache, const FractureOptions& options,
+                             const sim::LocalRelaxOptions& local, double& rate_radius,
+                             std::vector<std::size_t>& rate_seeds, RunStats& stats) {
+    Timer timer;
+    if (!rate_seeds.empty()) {
+        std::sort(rate_seeds.begin(), rate_seeds.end());
+        rate_seeds.erase(std::unique(rate_seeds.begin(), rate_seeds.end()), rate_seeds.end());
+        // Seeds of rolled-back changes may name vertices that no longer exist.
+        while (!rate_seeds.empty() && rate_seeds.back() >= model.mesh().num_vertices())
+            rate_seeds.pop_back();
+        const sim::SolveStats s =
+            options.local_relaxation ? model.relax_rate_local(rate_seeds, rate_radius, local) : model.solve_rate();
+        stats.solver_iterations += s.iterations;
+        ++stats.solves;
+        stats.solve_seconds += timer.seconds();
+        timer.reset();
+        cache.refresh_around(model.last_updated_vertices(), true);
+        stats.stress_seconds += timer.seconds();
+        rate_seeds.clear();
+    }
+    timer.reset();
+    if (options.local_relaxation && model.max_residual_force() > 1e-3 * model.force_scale()) {
+        stats.solver_iterations += model.relax().iterations + model.solve_rate().iterations;
+        stats.solves += 2;
+        stats.global_cleanups += 1;
+        stats.solve_seconds += timer.seconds();
+        timer.reset();
+        cache.refresh_all();
+        stats.stress_seconds += timer.seconds();
+    } else {
+        stats.solve_seconds += timer.seconds();
+    }
 }
 
 } // namespace crackle::fracture

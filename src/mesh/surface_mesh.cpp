@@ -66,18 +66,50 @@ EdgeKey edge_key(const Face& face, int k, bool& forward) {
     if (forward) return {va, vb, d.x(), d.y()};
     return {vb, va, -d.x(), -d.y()};
 }
+
+struct HalfEdge {
+    EdgeKey key;
+    bool forward;
+    std::uint32_t face;
+    int edge;
+};
+
+/// Sorts half-edges by key (deterministic, no hash-map order) and links each matching pair
+/// in `neighbors`; returns the number of distinct edges and counts the unpaired ones.
+/// Throws InvariantError on a non-manifold or inconsistently oriented edge.
+std::size_t pair_half_edges(std::vector<HalfEdge>& half_edges, IdVector<FaceId, std::array<FaceNeighbor, 3>>& neighbors,
+                            std::size_t& unpaired) {
+    std::sort(half_edges.begin(), half_edges.end(), [](const HalfEdge& a, const HalfEdge& b) {
+        return std::tie(a.key, a.face, a.edge) < std::tie(b.key, b.face, b.edge);
+    });
+    std::size_t edges = 0;
+    unpaired = 0;
+    for (std::size_t i = 0; i < half_edges.size();) {
+        std::size_t j = i + 1;
+        while (j < half_edges.size() && half_edges[j].key == half_edges[i].key)
+            ++j;
+        ++edges;
+        if (j - i == 1) {
+            ++unpaired;
+        } else {
+            const HalfEdge& a = half_edges[i];
+            const HalfEdge& b = half_edges[i + 1];
+            CRACKLE_ASSERT(j - i == 2, "non-manifold edge " << std::get<0>(a.key) << "-" << std::get<1>(a.key)
+                                                            << " shared by " << (j - i) << " faces");
+            CRACKLE_ASSERT(a.forward != b.forward,
+                           "faces " << a.face << " and " << b.face << " disagree in orientation across an edge");
+            neighbors[face_id(a.face)][static_cast<size_t>(a.edge)] = {face_id(b.face), b.edge};
+            neighbors[face_id(b.face)][static_cast<size_t>(b.edge)] = {face_id(a.face), a.edge};
+        }
+        i = j;
+    }
+    return edges;
+}
 } // namespace
 
 void SurfaceMesh::rebuild_adjacency() {
     m_neighbors = IdVector<FaceId, std::array<FaceNeighbor, 3>>(num_faces());
     m_vertex_face = IdVector<VertexId, FaceId>(num_vertices(), NO_FACE);
-    // Sort half-edges by key: deterministic and cache-friendly (no hash-map order).
-    struct HalfEdge {
-        EdgeKey key;
-        bool forward;
-        std::uint32_t face;
-        int edge;
-    };
     std::vector<HalfEdge> half_edges;
     half_edges.reserve(3 * num_faces());
     for (size_t fi = 0; fi < num_faces(); ++fi) {
@@ -90,30 +122,7 @@ void SurfaceMesh::rebuild_adjacency() {
                 m_vertex_face[face.v[static_cast<size_t>(k)]] = face_id(fi);
         }
     }
-    std::sort(half_edges.begin(), half_edges.end(), [](const HalfEdge& a, const HalfEdge& b) {
-        return std::tie(a.key, a.face, a.edge) < std::tie(b.key, b.face, b.edge);
-    });
-    m_num_edges = 0;
-    m_num_boundary_edges = 0;
-    for (size_t i = 0; i < half_edges.size();) {
-        size_t j = i + 1;
-        while (j < half_edges.size() && half_edges[j].key == half_edges[i].key)
-            ++j;
-        ++m_num_edges;
-        if (j - i == 1) {
-            ++m_num_boundary_edges;
-        } else {
-            const HalfEdge& a = half_edges[i];
-            const HalfEdge& b = half_edges[i + 1];
-            CRACKLE_ASSERT(j - i == 2, "non-manifold edge " << std::get<0>(a.key) << "-" << std::get<1>(a.key)
-                                                            << " shared by " << (j - i) << " faces");
-            CRACKLE_ASSERT(a.forward != b.forward,
-                           "faces " << a.face << " and " << b.face << " disagree in orientation across an edge");
-            m_neighbors[face_id(a.face)][static_cast<size_t>(a.edge)] = {face_id(b.face), b.edge};
-            m_neighbors[face_id(b.face)][static_cast<size_t>(b.edge)] = {face_id(a.face), a.edge};
-        }
-        i = j;
-    }
+    m_num_edges = pair_half_edges(half_edges, m_neighbors, m_num_boundary_edges);
 }
 
 void SurfaceMesh::update_adjacency(const std::vector<FaceId>& changed) {
@@ -149,12 +158,6 @@ void SurfaceMesh::update_adjacency(const std::vector<FaceId>& changed) {
     long halves_before = 0, boundary_before = 0;
     tally(halves_before, boundary_before, old_faces);
     // Unlink every edge inside the set, keep the links to faces outside it.
-    struct HalfEdge {
-        EdgeKey key;
-        bool forward;
-        std::uint32_t face;
-        int edge;
-    };
     std::vector<HalfEdge> half_edges;
     for (std::uint32_t fi : set) {
         const FaceId f = face_id(fi);
@@ -167,25 +170,8 @@ void SurfaceMesh::update_adjacency(const std::vector<FaceId>& changed) {
             half_edges.push_back({key, forward, fi, k});
         }
     }
-    std::sort(half_edges.begin(), half_edges.end(), [](const HalfEdge& a, const HalfEdge& b) {
-        return std::tie(a.key, a.face, a.edge) < std::tie(b.key, b.face, b.edge);
-    });
-    for (std::size_t i = 0; i < half_edges.size();) {
-        std::size_t j = i + 1;
-        while (j < half_edges.size() && half_edges[j].key == half_edges[i].key)
-            ++j;
-        if (j - i > 1) {
-            const HalfEdge& a = half_edges[i];
-            const HalfEdge& b = half_edges[i + 1];
-            CRACKLE_ASSERT(j - i == 2, "non-manifold edge " << std::get<0>(a.key) << "-" << std::get<1>(a.key)
-                                                            << " shared by " << (j - i) << " faces");
-            CRACKLE_ASSERT(a.forward != b.forward,
-                           "faces " << a.face << " and " << b.face << " disagree in orientation across an edge");
-            m_neighbors[face_id(a.face)][static_cast<size_t>(a.edge)] = {face_id(b.face), b.edge};
-            m_neighbors[face_id(b.face)][static_cast<size_t>(b.edge)] = {face_id(a.face), a.edge};
-        }
-        i = j;
-    }
+    std::size_t unpaired = 0;
+    pair_half_edges(half_edges, m_neighbors, unpaired);
     long halves_after = 0, boundary_after = 0;
     tally(halves_after, boundary_after, num_faces());
     m_num_edges = static_cast<std::size_t>(static_cast<long>(m_num_edges) + (halves_after - halves_before) / 2);
