@@ -244,21 +244,7 @@ CrackPattern run_fem_remove(sim::FemModel& model, const FractureOptions& options
         stats.stress_seconds += timer.seconds();
 
         // Move along the exact affine solution; no solve unless shrinkage rebuilt the stiffness.
-        timer.reset();
-        model.advance_time(t_hi);
-        ++stats.time_steps;
-        if (model.stiffness_changed()) {
-            stats.solver_iterations += model.relax().iterations + model.solve_rate().iterations;
-            stats.solves += 2;
-            stats.solve_seconds += timer.seconds();
-            timer.reset();
-            cache.refresh_all(); // new B matrices: every stress changes
-        } else {
-            stats.solve_seconds += timer.seconds();
-            timer.reset();
-            cache.advance(t_hi - t0);
-        }
-        stats.stress_seconds += timer.seconds();
+        advance_model(model, cache, t_hi, stats);
     }
     progress.finish();
 

@@ -919,21 +919,7 @@ void Splitter::advance_time() {
         m_last_step = std::max(t_hi - t0, dt_min);
     }
     m_stats.stress_seconds += timer.seconds();
-    timer.reset();
-    m_model.advance_time(t_hi);
-    ++m_stats.time_steps;
-    if (m_model.stiffness_changed()) {
-        m_stats.solver_iterations += m_model.relax().iterations + m_model.solve_rate().iterations;
-        m_stats.solves += 2;
-        m_stats.solve_seconds += timer.seconds();
-        timer.reset();
-        m_cache.refresh_all();
-    } else {
-        m_stats.solve_seconds += timer.seconds();
-        timer.reset();
-        m_cache.advance(t_hi - t0);
-    }
-    m_stats.stress_seconds += timer.seconds();
+    advance_model(m_model, m_cache, t_hi, m_stats);
 }
 
 std::vector<Event> Splitter::run(bool& capped) {

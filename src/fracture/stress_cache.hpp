@@ -171,6 +171,27 @@ inline double initial_radius(const sim::FemModel& model, double tolerance) {
     return std::clamp(std::ceil(1.6 * std::log(1.0 / tolerance) * h / edge), 2.0, 64.0);
 }
 
+/// Moves the model to t along the exact affine solution and the cache with it; only when
+/// shrinkage rebuilt the stiffness does it re-solve and re-evaluate every stress.
+inline void advance_model(sim::FemModel& model, StressCache& cache, double t, RunStats& stats) {
+    Timer timer;
+    const double t0 = model.time();
+    model.advance_time(t);
+    ++stats.time_steps;
+    if (model.stiffness_changed()) {
+        stats.solver_iterations += model.relax().iterations + model.solve_rate().iterations;
+        stats.solves += 2;
+        stats.solve_seconds += timer.seconds();
+        timer.reset();
+        cache.refresh_all(); // new B matrices: every stress changes
+    } else {
+        stats.solve_seconds += timer.seconds();
+        timer.reset();
+        cache.advance(t - t0);
+    }
+    stats.stress_seconds += timer.seconds();
+}
+
 /// Once per time step (§5.8): settles the rate solution around `rate_seeds` (the vertices whose
 /// elements changed since the last step; cleared), then relaxes globally when the local
 /// relaxations have left forces that could shift a stress by 1e-3 of a threshold (the thesis

@@ -521,6 +521,13 @@ void FemModel::reassemble_around(const std::vector<std::size_t>& vertices) {
     m_solver->invalidate(true);
 }
 
+void FemModel::update_around(const std::vector<std::size_t>& vertices) {
+    reassemble_around(vertices);
+    recompute_residual_at(Unknown::Position, vertices);
+    recompute_residual_at(Unknown::Rate, vertices);
+    m_x.load_norm = m_xdot.load_norm = -1;
+}
+
 void FemModel::grow_rows(Eigen::Index n) {
     constexpr int slack = 18, room = 36; // per old row, per new row (12 neighbour vertices)
     if (m_K.isCompressed()) m_K.reserve(Eigen::VectorXi::Constant(m_K.outerSize(), slack));
@@ -1213,11 +1220,7 @@ std::vector<FaceId> FemModel::adopt_splits(const std::vector<mesh::EdgeSplit>& s
     std::sort(vertices.begin(), vertices.end());
     vertices.erase(std::unique(vertices.begin(), vertices.end()), vertices.end());
     refresh_incidence(touched, vertices);
-    reassemble_around(vertices);
-    // Only the residuals at the refined faces' nodes change.
-    recompute_residual_at(Unknown::Position, vertices);
-    recompute_residual_at(Unknown::Rate, vertices);
-    m_x.load_norm = m_xdot.load_norm = -1;
+    update_around(vertices); // only the residuals at the refined faces' nodes change
     return touched;
 }
 
@@ -1242,10 +1245,7 @@ FaceId FemModel::flip_edge(FaceId f, int edge) {
     refresh_incidence({f, g}, vertices);
     init_element(ix(f));
     init_element(ix(g));
-    reassemble_around(vertices);
-    recompute_residual_at(Unknown::Position, vertices);
-    recompute_residual_at(Unknown::Rate, vertices);
-    m_x.load_norm = m_xdot.load_norm = -1;
+    update_around(vertices);
     return g;
 }
 
@@ -1281,10 +1281,7 @@ void FemModel::move_vertex(VertexId v, const mesh::NewVertex& to, const Vec3& to
     }
     std::sort(vertices.begin(), vertices.end());
     vertices.erase(std::unique(vertices.begin(), vertices.end()), vertices.end());
-    reassemble_around(vertices);
-    recompute_residual_at(Unknown::Position, vertices);
-    recompute_residual_at(Unknown::Rate, vertices);
-    m_x.load_norm = m_xdot.load_norm = -1;
+    update_around(vertices);
 }
 
 std::vector<std::pair<VertexId, VertexId>> FemModel::cut(const std::vector<std::pair<FaceId, int>>& edges) {
@@ -1319,10 +1316,7 @@ std::vector<std::pair<VertexId, VertexId>> FemModel::cut(const std::vector<std::
     std::sort(vertices.begin(), vertices.end());
     vertices.erase(std::unique(vertices.begin(), vertices.end()), vertices.end());
     refresh_incidence(faces, vertices);
-    reassemble_around(vertices);
-    recompute_residual_at(Unknown::Position, vertices);
-    recompute_residual_at(Unknown::Rate, vertices);
-    m_x.load_norm = m_xdot.load_norm = -1;
+    update_around(vertices);
     return copies;
 }
 

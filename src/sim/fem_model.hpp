@@ -261,6 +261,9 @@ private:
     SolveStats relax_field_local(Unknown u, const std::vector<std::size_t>& seeds, double& radius,
                                  const LocalRelaxOptions& options);
     void set_block(std::size_t a, std::size_t b, const Mat3& block);
+    /// After a local topology or shape change: the rows of K of these vertices (sorted,
+    /// unique) and the tracked residuals at them.
+    void update_around(const std::vector<std::size_t>& vertices);
     /// Adds rows and columns up to n (uncompressed, with room in every row).
     void grow_rows(Eigen::Index n);
     void invalidate_residuals();
