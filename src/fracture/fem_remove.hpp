@@ -27,6 +27,9 @@ struct FractureOptions {
 /// What the run did and where the time went.
 struct RunStats {
     std::size_t removals = 0, subdivisions = 0, time_steps = 0, solves = 0;
+    /// Whole-stiffness rebuilds because shrinkage changed the reference shapes (FemOptions::
+    /// stiffness_refresh).
+    std::size_t stiffness_rebuilds = 0;
     /// fem-split: new fractures, accepted and rejected (Griffith) tip extensions, cuts moved
     /// onto a vertex by edge collapse, cuts snapped to a vertex that could not move.
     std::size_t splits = 0, extensions = 0, arrests = 0, collapses = 0, snaps = 0;

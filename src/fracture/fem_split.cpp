@@ -282,6 +282,8 @@ private:
     sim::LocalRelaxOptions m_local;
     double m_radius = 4, m_rate_radius = 4, m_exclusion = 0.01, m_smoothing = 0, m_last_step = 1e-3;
     std::deque<std::size_t> m_tips;
+    /// Tips below threshold without Griffith's test: re-examined after every time step.
+    std::vector<std::size_t> m_dormant;
     std::vector<Vec3> m_zones; // reference positions of arrested tips
     std::vector<std::size_t> m_rate_seeds;
     std::vector<double> m_node_ratio; // nodal ratio per vertex, valid where not dirty
@@ -721,6 +723,12 @@ bool Splitter::extend_tip(std::size_t tip, Event& ev) {
     }
     const NodalStress ns = nodal_from(m_model, tip, [&](std::size_t f) { return m_cache.stress(f); });
     if (ns.threshold <= 0) return false;
+    if (!m_split.griffith && ns.ratio < 1.0) {
+        // Without Griffith's test a tip runs on its stress alone: below threshold it waits for
+        // the load to rise, and Alg. 5's time step ends when it crosses (advance_time()).
+        m_dormant.push_back(tip);
+        return false;
+    }
     // Onwards: away from the crack behind the tip (its lips' far ends).
     const mesh::SurfaceMesh& m = m_model.mesh();
     Vec3 behind = Vec3::Zero();
@@ -732,7 +740,6 @@ bool Splitter::extend_tip(std::size_t tip, Event& ev) {
     Vec3 dir = ns.crack;
     submodel_direction(tip, dir); // keeps ns.crack when off
     if (dir.dot(behind) > 0) dir = -dir;
-    if (!m_split.griffith && ns.ratio < 1.0) return false;
 
     Timer timer;
     // A trial, so a rejected extension rolls back exactly (digest §3.9.4 caveat 2). The stress
@@ -874,8 +881,12 @@ void Splitter::advance_time() {
         double threshold;
     };
     std::vector<NodeLine> lines;
+    std::vector<char> dormant(nv, 0);
+    for (std::size_t t : m_dormant)
+        if (t < nv) dormant[t] = 1;
     for (std::size_t v = 0; v < nv; ++v) {
-        if (m_model.incident_faces(v).empty() || is_tip(m_model, v) || excluded(v)) continue;
+        // Waiting tips take part too: the step ends when one of them reaches the threshold.
+        if (m_model.incident_faces(v).empty() || (is_tip(m_model, v) && !dormant[v]) || excluded(v)) continue;
         NodalStress means;
         Mat3 s0, s1;
         if (!nodal_tensor(
@@ -966,6 +977,9 @@ std::vector<Event> Splitter::run(bool& capped) {
         }
         if (m_model.time() >= m_options.duration) break;
         advance_time();
+        // Tips that waited for the load look again, in the order they stopped.
+        m_tips.insert(m_tips.end(), m_dormant.begin(), m_dormant.end());
+        m_dormant.clear();
         refine_by_von_mises();
         check("von Mises refinement");
     }
@@ -1007,6 +1021,13 @@ std::string check_split_invariants(const sim::FemModel& model) {
                 return os.str();
             }
     return {};
+}
+
+std::vector<std::size_t> crack_tips(const sim::FemModel& model) {
+    std::vector<std::size_t> tips;
+    for (std::size_t v = 0; v < model.mesh().num_vertices(); ++v)
+        if (!model.incident_faces(v).empty() && is_tip(model, v)) tips.push_back(v);
+    return tips;
 }
 
 NodalStress nodal_stress(const sim::FemModel& model, std::size_t vertex) {

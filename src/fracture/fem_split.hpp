@@ -65,4 +65,7 @@ struct NodalStress {
 };
 NodalStress nodal_stress(const sim::FemModel& model, std::size_t vertex);
 
+/// The crack tips of a model: vertices on exactly one crack edge pair (the end of a slit).
+std::vector<std::size_t> crack_tips(const sim::FemModel& model);
+
 } // namespace crackle::fracture

@@ -215,6 +215,13 @@ void MassSpringModel::set_time(double t) {
     m_time = t;
 }
 
+void MassSpringModel::restore(const State& s) {
+    m_time = s.time;
+    m_x = s.x;
+    m_anchor0 = s.anchor0;
+    m_loads.valid = false; // the anchors are part of the loads
+}
+
 const MassSpringModel::Loads& MassSpringModel::loads(double t) const {
     Loads& L = m_loads;
     if (L.valid && L.t == t) return L;
@@ -658,6 +665,9 @@ CrackPattern run_mass_spring(MassSpringModel& model, const FractureOptions& opti
         step = std::clamp(step, dt_min, std::max(dt_min, 0.25 * options.duration));
         run.stress_seconds += stress_timer.seconds();
         double t_hi = std::min(options.duration, t0 + step);
+        // Anchors slide plastically (§4.1): a probe past the break must not leave its slides
+        // behind, so every probe starts from the last state known to lie before the break.
+        MassSpringModel::State below = model.state();
         model.set_time(t_hi);
         relax();
         ++stats.time_steps;
@@ -666,21 +676,27 @@ CrackPattern run_mass_spring(MassSpringModel& model, const FractureOptions& opti
         if (r > 1.0 + 1e-6) {
             // Overshot: bisect between t0 (no break) and t_hi.
             double t_lo = t0;
+            bool at_hi = true;
             while (t_hi - t_lo > dt_min && r > 1.0 + 1e-6) {
                 const double mid = 0.5 * (t_lo + t_hi);
+                model.restore(below);
                 model.set_time(mid);
                 relax();
                 const double rm = max_ratio();
                 if (rm > 1.0) {
                     t_hi = mid;
                     r = rm;
+                    at_hi = true;
                 } else {
                     t_lo = mid;
+                    below = model.state();
+                    at_hi = false;
                 }
                 ++stats.time_steps;
                 ++run.time_steps;
             }
-            if (model.time() != t_hi) {
+            if (!at_hi) {
+                model.restore(below);
                 model.set_time(t_hi);
                 relax();
             }

@@ -83,6 +83,17 @@ public:
 
     // === Mechanics
     void set_time(double t);
+    /// What the loading path leaves behind: positions and slid anchors (sliding is plastic, so
+    /// it depends on the path). The time search of run_mass_spring probes later times and
+    /// comes back to the last state below the next break before probing an earlier one.
+    struct State {
+        double time = 0;
+        std::vector<Vec3> x, anchor0;
+    };
+    State state() const { return {m_time, m_x, m_anchor0}; }
+    void restore(const State& s);
+    /// Where vertex v's anchor is now (it follows the background, and slides, §4.1).
+    Vec3 anchor_position(std::size_t v) const { return anchor(v, m_time); }
     /// Newton's method with a line search to the nonlinear equilibrium; slides anchors that
     /// are over-stretched and relaxes again. Throws NumericError (iterations, residual, time)
     /// when it fails to converge or meets NaN.

@@ -176,8 +176,10 @@ inline double initial_radius(const sim::FemModel& model, double tolerance) {
 inline void advance_model(sim::FemModel& model, StressCache& cache, double t, RunStats& stats) {
     Timer timer;
     const double t0 = model.time();
+    const std::size_t builds = model.stiffness_builds();
     model.advance_time(t);
     ++stats.time_steps;
+    stats.stiffness_rebuilds += model.stiffness_builds() - builds;
     if (model.stiffness_changed()) {
         stats.solver_iterations += model.relax().iterations + model.solve_rate().iterations;
         stats.solves += 2;

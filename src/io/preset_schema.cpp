@@ -191,8 +191,9 @@ std::vector<KeySpec> build_schema() {
                "default: it costs time and the worst angles come from the cuts themselves)."));
     s.push_back(boolean("simulation", "griffith", true,
                         "fem-split only: a crack tip extends only while the energy it releases pays for the new "
-                        "crack wall (Griffith, Alg. 11, with material.toughness). false = tips run while the "
-                        "stress is over threshold."));
+                        "crack wall (Griffith, Alg. 11, with material.toughness); a stopped tip stays stopped. "
+                        "false = tips run while the stress is over threshold, and a tip below it waits and runs "
+                        "on when the load has raised its stress to the threshold."));
     s.push_back(number("simulation", "min_element_size", 0.0, "m", 0.0, 1000.0,
                        "Dynamic subdivision (§5.6.4): an element over threshold but longer than this is "
                        "subdivided instead of cracked, so fine elements appear only where cracks run. 0 = off "

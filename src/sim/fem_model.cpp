@@ -281,15 +281,41 @@ FemModel::FemModel(mesh::SurfaceMesh mesh, const mesh::Surface& surface, const G
 
 FemModel::~FemModel() = default;
 
+double FemModel::thickness_at(const Vec3& p, const Vec2& domain) const {
+    const Vec2 uv = m_surface.periodic() ? m_surface.uv_of_domain(domain) : m_surface.uv(p);
+    return m_fields.thickness->at(p, uv);
+}
+
 void FemModel::init_vertex(std::size_t v) {
     const Vec3& p = m_mesh.positions[vertex_id(v)];
-    const Vec2 uv = m_surface.periodic() ? m_surface.uv_of_domain(m_mesh.domain[vertex_id(v)]) : m_surface.uv(p);
     m_normal[v] = m_surface.normal(p);
-    m_thickness[v] = m_fields.vertex_thickness ? (*m_fields.vertex_thickness)[v] : m_fields.thickness->at(p, uv);
+    m_thickness[v] = m_fields.vertex_thickness
+                         ? (*m_fields.vertex_thickness)[v]
+                         : thickness_at(p, m_surface.periodic() ? m_mesh.domain[vertex_id(v)] : Vec2::Zero());
     CRACKLE_ASSERT(m_thickness[v] > 0, "non-positive layer thickness at vertex " << v);
-    // Rest position: straight above the background at the current time.
+    m_x.values[v] = rest_top(p, m_normal[v], m_thickness[v]);
+}
+
+Vec3 FemModel::rest_top(const Vec3& p0, const Vec3& n0, double h) const {
+    // The grown surface's normal: normals map with the inverse transpose of I + tT.
+    const Mat3 G = Mat3::Identity() + m_time * m_growth.tensor();
+    const Vec3 n = G.inverse().transpose() * n0;
     const double s_bar = 0.5 * (m_shrinkage.top(m_time) + m_shrinkage.bottom(m_time));
-    m_x.values[v] = m_growth.position(p, m_time) + (1.0 - s_bar) * m_thickness[v] * m_normal[v];
+    return m_growth.position(p0, m_time) + (1.0 - s_bar) * h * n.normalized();
+}
+
+Vec3 FemModel::rest_top_rate(const Vec3& p0, const Vec3& n0, double h) const {
+    const Mat3& T = m_growth.tensor();
+    const Mat3 G_inv_t = (Mat3::Identity() + m_time * T).inverse().transpose();
+    const Vec3 m = G_inv_t * n0;
+    const double len = m.norm();
+    const Vec3 n = m / len;
+    // ṁ = −G⁻ᵀ Tᵀ m, and the unit normal turns with the part of it across n.
+    const Vec3 m_dot = -G_inv_t * (T.transpose() * m);
+    const Vec3 n_dot = (m_dot - n * n.dot(m_dot)) / len;
+    const double s_bar = 0.5 * (m_shrinkage.top(m_time) + m_shrinkage.bottom(m_time));
+    const double s_bar_dot = 0.5 * (m_shrinkage.top_rate + m_shrinkage.bottom_rate);
+    return m_growth.velocity(p0) - s_bar_dot * h * n + (1.0 - s_bar) * h * n_dot;
 }
 
 void FemModel::init_element(std::size_t f) {
@@ -575,7 +601,9 @@ void FemModel::set_time(double t) {
     m_time = t;
     const double dt_top = std::abs(m_shrinkage.top(t) - m_stiffness_s_top);
     const double dt_bot = std::abs(m_shrinkage.bottom(t) - m_stiffness_s_bot);
-    if (std::max(dt_top, dt_bot) > m_options.stiffness_refresh) {
+    // At the horizon itself the shrinkage has moved by the refresh tolerance up to round-off:
+    // that counts as reached, or time would stop there with the old shapes for good.
+    if (std::max(dt_top, dt_bot) >= m_options.stiffness_refresh * (1 - 1e-9) && std::max(dt_top, dt_bot) > 0) {
         m_stiffness_s_top = m_shrinkage.top(t);
         m_stiffness_s_bot = m_shrinkage.bottom(t);
         for (std::size_t f = 0; f < m_mesh.num_faces(); ++f)
@@ -583,6 +611,7 @@ void FemModel::set_time(double t) {
         assemble();
         m_solver->invalidate(false);
         invalidate_residuals();
+        ++m_stiffness_builds;
         log::debug("stiffness rebuilt at t = ", t, " (shrinkage top ", m_stiffness_s_top, ", bottom ",
                    m_stiffness_s_bot, ")");
     }
@@ -591,7 +620,8 @@ void FemModel::set_time(double t) {
 void FemModel::advance_time(double t) {
     const double dt = t - m_time;
     if (dt == 0.0) return;
-    if (t > stiffness_horizon()) {
+    const bool shrinking = m_shrinkage.top_rate != 0 || m_shrinkage.bottom_rate != 0;
+    if ((shrinking && m_options.stiffness_refresh <= 0) || t >= stiffness_horizon()) {
         advance_along_rate(dt);
         set_time(t);
         return;
@@ -612,7 +642,7 @@ double FemModel::stiffness_horizon() const {
         if (rate == 0) return;
         // |rate·t − s_ref| reaches the refresh tolerance
         for (double tc : {(s_ref + m_options.stiffness_refresh) / rate, (s_ref - m_options.stiffness_refresh) / rate})
-            if (tc > m_time) horizon = std::min(horizon, tc);
+            if (tc > m_time * (1 + 1e-12)) horizon = std::min(horizon, tc);
     };
     limit(m_shrinkage.top_rate, m_stiffness_s_top);
     limit(m_shrinkage.bottom_rate, m_stiffness_s_bot);
@@ -1109,19 +1139,18 @@ double FemModel::element_size(FaceId f) const {
     return std::max({(p[1] - p[0]).norm(), (p[2] - p[1]).norm(), (p[0] - p[2]).norm()});
 }
 
-mesh::NewVertex FemModel::point_on_edge(const mesh::SurfaceMesh& m, FaceId face, int edge, double t,
-                                        std::pair<Vec3, Vec3>& top_rate) const {
+mesh::NewVertex FemModel::point_on_edge(const mesh::SurfaceMesh& m, FaceId face, int edge, double t, NewNode& node,
+                                        const std::vector<NewNode>* pending) const {
     Vec3 bary = Vec3::Zero();
     bary[edge] = 1 - t;
     bary[(edge + 1) % 3] = t;
-    return point_in_face(m, face, bary, top_rate);
+    return point_in_face(m, face, bary, node, pending);
 }
 
-mesh::NewVertex FemModel::point_in_face(const mesh::SurfaceMesh& m, FaceId face, const Vec3& bary,
-                                        std::pair<Vec3, Vec3>& top_rate) const {
+mesh::NewVertex FemModel::point_in_face(const mesh::SurfaceMesh& m, FaceId face, const Vec3& bary, NewNode& node,
+                                        const std::vector<NewNode>* pending) const {
     const mesh::Face& fc = m.faces[face];
     mesh::NewVertex nv;
-    Vec2i om = Vec2i::Zero();
     if (m.periodic) {
         // In the unrolled domain, mapped onto the surface.
         Vec2 d = Vec2::Zero();
@@ -1129,55 +1158,74 @@ mesh::NewVertex FemModel::point_in_face(const mesh::SurfaceMesh& m, FaceId face,
             d += bary[k] * m.corner_domain(face, k);
         nv.domain = Vec2(wrap(d.x(), m.period.x()), wrap(d.y(), m.period.y()));
         nv.position = m_surface.position(nv.domain);
-        om = Vec2i(static_cast<int>(std::lround((d.x() - nv.domain.x()) / m.period.x())),
-                   static_cast<int>(std::lround((d.y() - nv.domain.y()) / m.period.y())));
     } else {
         Vec3 p = Vec3::Zero();
         for (int k = 0; k < 3; ++k)
             p += bary[k] * m.corner_position(face, k);
         nv.position = m_surface.project(p);
     }
-    // The top node and its rate: interpolated in the face's periodic frame, then brought back.
-    top_rate = {-shift(om, m_time), -shift_rate(om)};
+    // The top node and its rate: the corners' displacements from rest are interpolated, not
+    // their positions. On a curved surface the chord between two top nodes runs inside the
+    // layer by (R + h)·θ²/8, and a resampled thickness differs from the interpolated one:
+    // either would give the new node a misfit that relaxing releases as if a crack had.
+    // (Displacements do not depend on the periodic frame: a shift moves a node and its rest
+    // alike.)
+    node.thickness = m_fields.vertex_thickness ? 0.0 : thickness_at(nv.position, nv.domain);
+    node.normal = m_surface.normal(nv.position);
+    node.top = rest_top(nv.position, node.normal, node.thickness);
+    node.rate = rest_top_rate(nv.position, node.normal, node.thickness);
+    const std::size_t adopted = m_normal.size();
     for (std::size_t k = 0; k < 3; ++k) {
         const auto w = static_cast<Eigen::Index>(k);
-        top_rate.first += bary[w] * (m_x.values[ix(fc.v[k])] + shift(fc.offset[k], m_time));
-        top_rate.second += bary[w] * (m_xdot.values[ix(fc.v[k])] + shift_rate(fc.offset[k]));
+        const std::size_t c = ix(fc.v[k]);
+        const Vec3& p0 = m.positions[fc.v[k]];
+        if (c < adopted) {
+            node.top += bary[w] * (m_x.values[c] - rest_top(p0, m_normal[c], m_thickness[c]));
+            node.rate += bary[w] * (m_xdot.values[c] - rest_top_rate(p0, m_normal[c], m_thickness[c]));
+        } else {
+            // A midpoint an earlier bisection of the same Rivara cascade made.
+            CRACKLE_ASSERT(pending && c - adopted < pending->size(), "interpolating from unknown vertex " << c);
+            const NewNode& q = (*pending)[c - adopted];
+            node.top += bary[w] * (q.top - rest_top(p0, q.normal, q.thickness));
+            node.rate += bary[w] * (q.rate - rest_top_rate(p0, q.normal, q.thickness));
+        }
     }
     return nv;
 }
 
 mesh::NewVertex FemModel::face_point(FaceId f, const Vec3& bary, Vec3* top, Vec3* rate) const {
-    std::pair<Vec3, Vec3> tr;
-    const mesh::NewVertex nv = point_in_face(m_mesh, f, bary, tr);
-    if (top) *top = tr.first;
-    if (rate) *rate = tr.second;
+    NewNode node;
+    const mesh::NewVertex nv = point_in_face(m_mesh, f, bary, node);
+    if (top) *top = node.top;
+    if (rate) *rate = node.rate;
     return nv;
 }
 
 std::vector<FaceId> FemModel::subdivide(FaceId f) {
-    std::vector<std::pair<Vec3, Vec3>> tops; // per new vertex: (top, rate), in split order
+    std::vector<NewNode> nodes; // per new vertex, in split order
     const mesh::MidpointRule rule = [&](const mesh::SurfaceMesh& m, FaceId face, int edge) {
-        tops.emplace_back();
-        return point_on_edge(m, face, edge, 0.5, tops.back());
+        NewNode node;
+        const mesh::NewVertex nv = point_on_edge(m, face, edge, 0.5, node, &nodes);
+        nodes.push_back(node);
+        return nv;
     };
     std::vector<mesh::EdgeSplit> splits;
     mesh::rivara_bisect(m_mesh, f, rule, splits);
-    return adopt_splits(splits, tops);
+    return adopt_splits(splits, nodes);
 }
 
 std::pair<VertexId, std::vector<FaceId>> FemModel::split_edge(FaceId f, int edge, double t) {
     CRACKLE_ASSERT(t > 0 && t < 1, "split parameter " << t << " outside (0, 1)");
-    std::vector<std::pair<Vec3, Vec3>> tops(1);
-    const mesh::NewVertex nv = point_on_edge(m_mesh, f, edge, t, tops[0]);
+    std::vector<NewNode> nodes(1);
+    const mesh::NewVertex nv = point_on_edge(m_mesh, f, edge, t, nodes[0]);
     const std::vector<mesh::EdgeSplit> splits{mesh::split_edge(m_mesh, f, edge, nv)};
-    std::vector<FaceId> touched = adopt_splits(splits, tops);
+    std::vector<FaceId> touched = adopt_splits(splits, nodes);
     return {splits[0].vertex, std::move(touched)};
 }
 
 std::vector<FaceId> FemModel::adopt_splits(const std::vector<mesh::EdgeSplit>& splits,
-                                           const std::vector<std::pair<Vec3, Vec3>>& tops) {
-    CRACKLE_ASSERT(tops.size() == splits.size(), "one new vertex per split");
+                                           const std::vector<NewNode>& nodes) {
+    CRACKLE_ASSERT(nodes.size() == splits.size(), "one new vertex per split");
     std::vector<FaceId> touched;
     for (std::size_t i = 0; i < splits.size(); ++i) {
         const mesh::EdgeSplit& split = splits[i];
@@ -1194,8 +1242,8 @@ std::vector<FaceId> FemModel::adopt_splits(const std::vector<mesh::EdgeSplit>& s
                 fd->residual.tail<3>().setZero();
             }
         init_vertex(v);
-        m_x.values[v] = tops[i].first;
-        m_xdot.values[v] = tops[i].second;
+        m_x.values[v] = nodes[i].top;
+        m_xdot.values[v] = nodes[i].rate;
         // Children: the kept id keeps the parent's status, the new id copies it.
         for (const auto& [kid, nid] : split.children) {
             const char status = m_alive[ix(kid)];
@@ -1225,10 +1273,10 @@ std::vector<FaceId> FemModel::adopt_splits(const std::vector<mesh::EdgeSplit>& s
 }
 
 mesh::NewVertex FemModel::edge_point(FaceId f, int edge, double t, Vec3* top, Vec3* rate) const {
-    std::pair<Vec3, Vec3> tr;
-    const mesh::NewVertex nv = point_on_edge(m_mesh, f, edge, t, tr);
-    if (top) *top = tr.first;
-    if (rate) *rate = tr.second;
+    NewNode node;
+    const mesh::NewVertex nv = point_on_edge(m_mesh, f, edge, t, node);
+    if (top) *top = node.top;
+    if (rate) *rate = node.rate;
     return nv;
 }
 

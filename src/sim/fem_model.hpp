@@ -40,9 +40,11 @@ enum class SolverKind {
 
 struct FemOptions {
     SolverKind solver = SolverKind::Cg;
-    double tolerance = 1e-9;         ///< CG: residual norm relative to the load's norm
-    int max_iterations = 20000;      ///< CG iterations before a NumericError
-    double stiffness_refresh = 0.01; ///< rebuild K when the shrinkage scale moved this much
+    double tolerance = 1e-9;    ///< CG: residual norm relative to the load's norm
+    int max_iterations = 20000; ///< CG iterations before a NumericError
+    /// Rebuild K when the shrinkage scale has moved this much since the last build; 0 rebuilds
+    /// it at every change of time (the reference the tolerance is tested against).
+    double stiffness_refresh = 0.01;
 };
 
 /// The layer's physical fields (§5.9), sampled per element (E, threshold, toughness) and per
@@ -122,10 +124,14 @@ public:
     /// residuals carried along (no solve). Falls back to set_time() + invalidated residuals
     /// when the stiffness has to be rebuilt at t.
     void advance_time(double t);
-    /// The latest time up to which the current stiffness stays valid (∞ without shrinkage).
+    /// The time at which the shrinkage will have moved by `stiffness_refresh` since the last
+    /// build (∞ without shrinkage, or with a refresh of 0): advance_time() rebuilds on reaching
+    /// it, so the fracture loops end a time step there.
     double stiffness_horizon() const;
     /// True when the stiffness changed since the last relax() (a refresh or a topology change).
     bool stiffness_changed() const { return m_stiffness_dirty_for_x; }
+    /// How many times shrinkage made the whole stiffness be rebuilt (refreshes, not topology).
+    std::size_t stiffness_builds() const { return m_stiffness_builds; }
 
     /// Solves the equilibrium at the current time, warm-started from the current positions
     /// (the increment solves the tracked residual). Throws NumericError when the solver fails.
@@ -235,6 +241,14 @@ private:
     Field& field(Unknown u) { return u == Unknown::Position ? m_x : m_xdot; }
 
     void init_vertex(std::size_t v);
+    /// Layer thickness from the field at a surface point (domain coordinates on periodic surfaces).
+    double thickness_at(const Vec3& p, const Vec2& domain) const;
+    /// Where a top node sits, now, above the background point p0 (normal n0, thickness h, at
+    /// t = 0) in a layer that follows the background without strain: (1 − s̄)·h along the grown
+    /// normal. Topology changes interpolate displacements from it (point_in_face).
+    Vec3 rest_top(const Vec3& p0, const Vec3& n0, double h) const;
+    /// Its time derivative.
+    Vec3 rest_top_rate(const Vec3& p0, const Vec3& n0, double h) const;
     void init_element(std::size_t f);
     void build_element_stiffness(std::size_t f);
     void assemble();
@@ -278,6 +292,7 @@ private:
     double m_time = 0;
     double m_stiffness_s_top = 0, m_stiffness_s_bot = 0; // shrinkage at the last stiffness build
     bool m_stiffness_dirty_for_x = true;
+    std::size_t m_stiffness_builds = 0;
     double m_residual_floor = 0;
     double m_force_scale = 1; // threshold × thickness × edge length: a nodal force that cracks
 
@@ -328,15 +343,21 @@ private:
     TrialSlot m_trial;
     void record_element(std::size_t f);
     void record_row(Eigen::Index row);
+    /// A vertex a topology change is making: its top node and rate, normal and thickness.
+    struct NewNode {
+        Vec3 top = Vec3::Zero(), rate = Vec3::Zero(), normal = Vec3::Zero();
+        double thickness = 0;
+    };
     /// Adopts the vertices and faces that mesh-level splits created (subdivide, split_edge);
-    /// `tops` holds each new vertex's (top, rate).
+    /// `nodes` holds each new vertex's top node and rate, in split order.
     std::vector<mesh::FaceId> adopt_splits(const std::vector<mesh::EdgeSplit>& splits,
-                                           const std::vector<std::pair<Vec3, Vec3>>& tops);
-    /// The new vertex at parameter t of a face's edge, and its interpolated (top, rate).
-    mesh::NewVertex point_on_edge(const mesh::SurfaceMesh& m, mesh::FaceId face, int edge, double t,
-                                  std::pair<Vec3, Vec3>& top_rate) const;
-    mesh::NewVertex point_in_face(const mesh::SurfaceMesh& m, mesh::FaceId face, const Vec3& bary,
-                                  std::pair<Vec3, Vec3>& top_rate) const;
+                                           const std::vector<NewNode>& nodes);
+    /// The new vertex at parameter t of a face's edge, and its interpolated node. `pending`:
+    /// vertices made earlier in the same change and not adopted yet (ids from num adopted on).
+    mesh::NewVertex point_on_edge(const mesh::SurfaceMesh& m, mesh::FaceId face, int edge, double t, NewNode& node,
+                                  const std::vector<NewNode>* pending = nullptr) const;
+    mesh::NewVertex point_in_face(const mesh::SurfaceMesh& m, mesh::FaceId face, const Vec3& bary, NewNode& node,
+                                  const std::vector<NewNode>* pending = nullptr) const;
 };
 
 } // namespace crackle::sim

@@ -14,6 +14,7 @@ struct LayerSpec {
     std::size_t elements = 300;
     double young = 1e9, poisson = 0.3, threshold = 1e5, toughness = 100, thickness = 0.01;
     double thickness_end = -1; ///< < 0: uniform; else thickness runs linearly along v to this
+    sim::VariationOptions thickness_variation;
     sim::GrowthOptions growth = {sim::GrowthKind::None, 0.0, 0.0, 0.0};
     sim::ShrinkageOptions shrinkage;
     sim::VariationOptions young_variation;
@@ -24,7 +25,7 @@ struct LayerSpec {
 struct Layer {
     explicit Layer(const LayerSpec& s)
         : spec(s), surface(make_surface(s.kind, s.size.x(), s.size.y())),
-          thickness(s.thickness, s.thickness_end < 0 ? s.thickness : s.thickness_end, sim::VariationOptions{}, surface,
+          thickness(s.thickness, s.thickness_end < 0 ? s.thickness : s.thickness_end, s.thickness_variation, surface,
                     s.seed, 1),
           young(s.young, s.young_variation, surface, s.seed, 2),
           threshold(s.threshold, sim::VariationOptions{}, surface, s.seed, 3),

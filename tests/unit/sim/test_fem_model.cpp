@@ -192,6 +192,52 @@ TEST_SUITE("sim") {
         CHECK((s1[0] - (s0[0] + 0.7 * rate[0])).norm() < 1e-7 * s1[0].norm());
     }
 
+    TEST_CASE("fem: moving along the affine solution rebuilds the stiffness at each refresh horizon, on every "
+              "surface") {
+        // Shrinkage five times the refresh tolerance: time lands exactly on each horizon, and
+        // each landing must rebuild K from the shrunk shapes (it once did not, and every later
+        // stress came from the t = 0 shapes).
+        for (SurfaceKind kind : {SurfaceKind::Plane, SurfaceKind::Cylinder, SurfaceKind::Sphere}) {
+            LayerSpec spec;
+            spec.kind = kind;
+            spec.size = kind == SurfaceKind::Sphere ? Vec2(0.1, 0.1) : Vec2(0.2, 0.2);
+            spec.shrinkage = {0.05, 0.03};
+            spec.growth = {sim::GrowthKind::Isogonic, 0.01, 0.01, 0.0};
+            spec.fem.tolerance = 1e-12;
+            Layer a(spec);
+            a.model->relax();
+            a.model->solve_rate();
+            const std::size_t builds = a.model->stiffness_builds();
+            while (a.model->time() < 1.0) {
+                a.model->advance_time(std::min(1.0, a.model->stiffness_horizon()));
+                if (a.model->stiffness_changed()) {
+                    a.model->relax();
+                    a.model->solve_rate();
+                }
+            }
+            CAPTURE(mesh::to_string(kind));
+            // The top shrinks 0.01 per 0.2: rebuilt at 0.2, 0.4, 0.6, 0.8 and 1.0.
+            CHECK(a.model->stiffness_builds() - builds == 5);
+            // ...so at t = 1 the stresses are those of K built at the exact shapes.
+            LayerSpec exact = spec;
+            exact.fem.stiffness_refresh = 0.0;
+            Layer b(exact);
+            b.model->set_time(1.0);
+            b.model->relax();
+            double worst = 0, scale = 0;
+            for (std::size_t f = 0; f < b.model->mesh().num_faces(); ++f) {
+                const auto sa = a.model->top_stress(mesh::face_id(f));
+                const auto sb = b.model->top_stress(mesh::face_id(f));
+                for (std::size_t k = 0; k < 3; ++k) {
+                    worst = std::max(worst, (sa[k] - sb[k]).cwiseAbs().maxCoeff());
+                    scale = std::max(scale, sb[k].cwiseAbs().maxCoeff());
+                }
+            }
+            CHECK(scale > 0);
+            CHECK(worst < 1e-6 * scale);
+        }
+    }
+
     TEST_CASE("fem: a solver that cannot converge reports iterations and residual") {
         LayerSpec spec;
         spec.growth = {sim::GrowthKind::Isogonic, 0.01, 0.01, 0.0};
