@@ -1,6 +1,6 @@
 #pragma once
-/// @file Runs for the thesis-claim tests (tests/unit/claims): fem-split on a layer whose
-/// thickness and threshold may vary too (LayerSpec varies only Young's modulus), §5.9.
+/// @file Runs for the thesis-claim tests (tests/unit/claims): fem-split and fem-remove on a
+/// layer whose thickness and threshold may vary too (LayerSpec varies only Young's modulus), §5.9.
 
 #include "support/fracture_fixture.hpp"
 
@@ -11,28 +11,47 @@ struct FieldVariations {
     sim::VariationOptions thickness, threshold;
 };
 
-/// A layer whose thickness and threshold fields carry `variations` (same streams as Layer).
-inline std::unique_ptr<Layer> varied_layer(const LayerSpec& spec, const FieldVariations& variations) {
-    auto layer = std::make_unique<Layer>(spec);
-    const LayerSpec& s = layer->spec;
-    layer->thickness = sim::PropertyField(s.thickness, s.thickness_end < 0 ? s.thickness : s.thickness_end,
-                                          variations.thickness, layer->surface, s.seed, 1);
-    layer->threshold = sim::PropertyField(s.threshold, variations.threshold, layer->surface, s.seed, 3);
-    sim::LayerFields fields{&layer->thickness, &layer->young, &layer->threshold, &layer->toughness, s.poisson};
-    layer->model = std::make_unique<sim::FemModel>(make_mesh(layer->surface, s.elements, s.seed), layer->surface,
-                                                   sim::GrowthField(s.growth, s.kind), s.shrinkage, fields, s.fem);
-    return layer;
-}
+/// Layer with `variations` on its thickness and threshold fields (same seeds and streams as Layer).
+struct VariedLayer {
+    VariedLayer(const LayerSpec& s, const FieldVariations& variations)
+        : spec(s), surface(make_surface(s.kind, s.size.x(), s.size.y())),
+          thickness(s.thickness, s.thickness_end < 0 ? s.thickness : s.thickness_end, variations.thickness, surface,
+                    s.seed, 1),
+          young(s.young, s.young_variation, surface, s.seed, 2),
+          threshold(s.threshold, variations.threshold, surface, s.seed, 3),
+          toughness(s.toughness, sim::VariationOptions{}, surface, s.seed, 4) {
+        sim::LayerFields fields{&thickness, &young, &threshold, &toughness, s.poisson};
+        model = std::make_unique<sim::FemModel>(make_mesh(surface, s.elements, s.seed), surface,
+                                                sim::GrowthField(s.growth, s.kind), s.shrinkage, fields, s.fem);
+    }
+    LayerSpec spec;
+    mesh::Surface surface;
+    sim::PropertyField thickness, young, threshold, toughness;
+    std::unique_ptr<sim::FemModel> model;
+};
 
-/// run_split on a varied layer.
-inline FractureRun run_split_varied(const LayerSpec& spec, const FieldVariations& variations, double duration = 1.0,
-                                    fracture::SplitOptions split = {}, fracture::FractureOptions options = {}) {
-    auto layer = varied_layer(spec, variations);
+/// run_split on a varied layer; `check_invariants` as in SplitOptions (run_split always checks).
+inline FractureRun run_split_varied(const LayerSpec& spec, const FieldVariations& variations, bool check_invariants,
+                                    double duration = 1.0, fracture::SplitOptions split = {},
+                                    fracture::FractureOptions options = {}) {
+    VariedLayer layer(spec, variations);
     options.duration = duration;
-    split.check_invariants = true;
+    split.check_invariants = check_invariants;
     Rng rng(spec.seed, RngStream::Fracture);
     FractureRun r;
-    r.pattern = fracture::run_fem_split(*layer->model, options, split, rng, &r.run);
+    r.pattern = fracture::run_fem_split(*layer.model, options, split, rng, &r.run);
+    r.stats = fracture::pattern_statistics(r.pattern);
+    return r;
+}
+
+/// run_removal on a varied layer.
+inline FractureRun run_removal_varied(const LayerSpec& spec, const FieldVariations& variations, double duration = 1.0) {
+    VariedLayer layer(spec, variations);
+    fracture::FractureOptions o;
+    o.duration = duration;
+    Rng rng(spec.seed, RngStream::Fracture);
+    FractureRun r;
+    r.pattern = fracture::run_fem_remove(*layer.model, o, rng, &r.run);
     r.stats = fracture::pattern_statistics(r.pattern);
     return r;
 }
