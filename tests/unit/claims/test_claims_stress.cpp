@@ -5,7 +5,7 @@
 
 #include "fracture/fem_split.hpp"
 #include "support/accuracy.hpp"
-#include "support/fem_fixture.hpp"
+#include "support/fracture_fixture.hpp"
 #include "support/scripted_crack.hpp"
 
 #include <doctest/doctest.h>
@@ -358,6 +358,22 @@ TEST_SUITE("claims") {
                            "max over seeds of angle(sub-model, refined ref) (deg)", worst_angle, "< 1");
         test::record_claim("5.24", "no permanent elements", "element count and positions restored after rollback",
                            restored ? 1.0 : 0.0, "== 1");
+        // In a whole run with sub-models at every tip step: only the cuts add elements (at most
+        // two per cut edge; one sub-model alone adds over a hundred).
+        LayerSpec s;
+        s.size = Vec2(0.2, 0.2);
+        s.elements = 300;
+        s.growth = {sim::GrowthKind::Anisotropic, 3e-4, 0.0, 30.0};
+        s.toughness = 1;
+        fracture::SplitOptions split;
+        split.tip_submodel_levels = 2;
+        const test::FractureRun run = test::run_split(s, 1.0, split);
+        const double added = double(run.pattern.mesh.num_faces()) - double(run.pattern.elements_initial);
+        const double cuts = double(2 * run.run.splits + run.run.extensions);
+        test::record_claim("5.24", "no permanent elements (whole fem-split run, sub-models at every tip)",
+                           "elements added / (2 x cut edges)", added / (2 * cuts), "<= 1");
+        CHECK(run.run.submodels > 50);
+        CHECK(added <= 2 * cuts);
         CHECK(worst_sub < 0.05);
         CHECK(best_coarse > 2 * worst_sub);
         CHECK(worst_held < 0.01);
