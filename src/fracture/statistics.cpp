@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <complex>
 #include <map>
 #include <set>
@@ -227,6 +228,86 @@ PatternStatistics pattern_statistics(const CrackPattern& p) {
     if (jc.total > 0) {
         st.t_junction_fraction = static_cast<double>(jc.t) / jc.total;
         st.y_junction_fraction = static_cast<double>(jc.y) / jc.total;
+    }
+    return st;
+}
+
+CrackPathStatistics crack_path_statistics(const CrackPattern& p, double min_chain_length) {
+    CrackPathStatistics st;
+
+    // === Orientation spread about the dominant direction of the orientation tensor
+    Mat2 M = Mat2::Zero();
+    double total = 0;
+    const std::vector<CrackSegment> segments = crack_segments(p);
+    for (const CrackSegment& s : segments) {
+        const double len = s.weight * s.length();
+        if (len <= 0) continue;
+        const Vec2 t = (s.b - s.a).normalized();
+        M += len * t * t.transpose();
+        total += len;
+    }
+    if (total > 0) {
+        Eigen::SelfAdjointEigenSolver<Mat2> eig(M);
+        const Vec2 d = eig.eigenvectors().col(1);
+        double sum = 0;
+        for (const CrackSegment& s : segments) {
+            const double len = s.weight * s.length();
+            if (len <= 0) continue;
+            // δ = angle between the undirected tangent and d, in [0°, 90°]
+            const double delta = std::acos(std::min(1.0, std::abs((s.b - s.a).normalized().dot(d))));
+            sum += len * sqr(delta * RAD_TO_DEG);
+        }
+        st.orientation_spread_deg = std::sqrt(sum / total);
+    }
+
+    // === Chains of the crack network between nodes of degree ≠ 2
+    const bool removal = std::any_of(p.removed.begin(), p.removed.end(), [](char r) { return r != 0; });
+    const SkeletonGraph g = removal ? removal_skeleton(p) : crack_skeleton(p);
+    std::set<std::pair<std::uint32_t, std::uint32_t>> used;
+    auto take = [&](std::uint32_t a, std::uint32_t b) {
+        return used.emplace(std::min(a, b), std::max(a, b)).second; // false: walked already
+    };
+    double sum_length = 0, sum_distance = 0, sum_ratio = 0;
+    auto add_chain = [&](double length, const Vec2& displacement) {
+        const double distance = displacement.norm();
+        if (length < min_chain_length || length <= 0) return;
+        if (distance <= 1e-9 * length) return; // a closed loop that does not wrap
+        ++st.chains;
+        sum_length += length;
+        sum_distance += distance;
+        sum_ratio += length / distance;
+    };
+    // Walks from `from` through `first` along degree-2 nodes until a node of another degree,
+    // or back to `from` on a closed loop; returns the path length and the unwrapped displacement.
+    auto walk = [&](std::uint32_t from, std::uint32_t first, double& length, Vec2& displacement) {
+        std::uint32_t prev = from, cur = first;
+        length = 0;
+        displacement = Vec2::Zero();
+        while (true) {
+            const Vec2 step = local_difference(p, g.position[prev], g.position[cur]);
+            length += step.norm();
+            displacement += step;
+            if (cur == from || g.adjacency[cur].size() != 2) return;
+            const std::uint32_t next = g.adjacency[cur][0] == prev ? g.adjacency[cur][1] : g.adjacency[cur][0];
+            if (!take(cur, next)) return;
+            prev = cur;
+            cur = next;
+        }
+    };
+    for (std::size_t pass = 0; pass < 2; ++pass) // ends and junctions first, then closed loops
+        for (std::uint32_t u = 0; u < g.adjacency.size(); ++u) {
+            if ((g.adjacency[u].size() != 2) != (pass == 0)) continue;
+            for (std::uint32_t w : g.adjacency[u]) {
+                if (!take(u, w)) continue;
+                double length = 0;
+                Vec2 displacement;
+                walk(u, w, length, displacement);
+                add_chain(length, displacement);
+            }
+        }
+    if (st.chains > 0) {
+        st.tortuosity = sum_length / sum_distance;
+        st.mean_tortuosity = sum_ratio / st.chains;
     }
     return st;
 }

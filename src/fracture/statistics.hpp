@@ -39,6 +39,24 @@ std::vector<CrackSegment> crack_segments(const CrackPattern& pattern);
 
 PatternStatistics pattern_statistics(const CrackPattern& pattern);
 
+/// The shape of the crack paths (digest §7.1, Fig. 5.31: "cracks are no longer straight").
+/// The crack network (the graph of the junction statistics) is cut into chains at its nodes
+/// of degree ≠ 2 (junctions and ends); a closed chain without such nodes counts when it wraps
+/// around the periodic domain (its end-to-end distance is the period) and is skipped when it
+/// does not. Reference configuration; distances are minimum-image on periodic surfaces.
+struct CrackPathStatistics {
+    int chains = 0;             ///< chains measured (≥ min_chain_length)
+    double tortuosity = 1;      ///< Σ chain length / Σ end-to-end distance (≥ 1; 1 when straight)
+    double mean_tortuosity = 1; ///< unweighted mean over chains of length / end-to-end distance
+    double orientation_spread_deg =
+        0; ///< √(Σ ℓ δ² / Σ ℓ), δ ∈ [0°, 90°] between a crack segment and the dominant direction
+};
+
+/// Tortuosity of the chains whose path length is at least `min_chain_length` (m; short stubs
+/// between nearby junctions are straight by construction), and the orientation spread of all
+/// crack segments (crack_segments()).
+CrackPathStatistics crack_path_statistics(const CrackPattern& pattern, double min_chain_length = 0.0);
+
 /// Junction classification from the angles between the three branches (degrees, summing
 /// to 360): T when the largest is ≥ 155°, Y when all lie in [95°, 145°].
 enum class JunctionKind { T, Y, Other };
