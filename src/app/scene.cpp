@@ -116,6 +116,7 @@ fracture::FractureOptions fracture_options(const io::Preset& preset) {
     o.max_events = static_cast<std::size_t>(preset.integer("simulation.max_events"));
     o.local_relaxation = preset.text("simulation.relaxation") == "local";
     o.local_tolerance = preset.number("simulation.local_tolerance");
+    o.drift_tolerance = preset.number("simulation.drift_tolerance");
     return o;
 }
 

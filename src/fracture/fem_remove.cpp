@@ -122,6 +122,7 @@ CrackPattern run_fem_remove(sim::FemModel& model, const FractureOptions& options
         }
         rate_seeds.insert(rate_seeds.end(), seeds.begin(), seeds.end());
         stats.solve_seconds += timer.seconds();
+        check_drift(model, options, radius, stats); // §5.8.3
         return model.last_updated_vertices();
     };
     auto vertices_of = [&](const std::vector<FaceId>& faces) {
@@ -192,6 +193,7 @@ CrackPattern run_fem_remove(sim::FemModel& model, const FractureOptions& options
             cache.refresh_around(moved);
             stats.stress_seconds += timer.seconds();
             events.push_back(ev);
+            if (options.after_event) options.after_event(model, ev);
             continue;
         }
         if (model.time() >= options.duration) break;

@@ -8,6 +8,8 @@
 #include "fracture/crack_pattern.hpp"
 #include "sim/fem_model.hpp"
 
+#include <functional>
+
 namespace crackle::fracture {
 
 /// Parameters of the fracture loop ([simulation] preset keys).
@@ -22,6 +24,19 @@ struct FractureOptions {
     /// Local relaxation stops growing its set when the force pushed out of it is below this
     /// share of the change's largest nodal force (sim::LocalRelaxOptions::tolerance).
     double local_tolerance = 1e-2;
+    /// §5.8.3: after every local relaxation the global residual is checked, and when its
+    /// largest nodal force passes this share of a threshold-level one (FemModel::force_scale)
+    /// the model is relaxed globally, so a cascade of local relaxations cannot drift: the
+    /// stress error stays below a few times this share of the threshold whatever the cascade's
+    /// length. The rate solution is checked the same way (per unit of the run's duration) at
+    /// every time step, before Alg. 5 uses it.
+    double drift_tolerance = 1e-2;
+    /// Called after every event with the model as the event left it (tests measure the drift
+    /// of local relaxation against a global solve with it). Empty: nothing is called.
+    std::function<void(const sim::FemModel&, const Event&)> after_event;
+    /// Called at every time step once the equilibrium and its rate are settled, before Alg. 5
+    /// looks for the next fracture time with them.
+    std::function<void(const sim::FemModel&)> before_time_step;
 };
 
 /// What the run did and where the time went.
@@ -39,11 +54,15 @@ struct RunStats {
     std::size_t flips = 0;          ///< fem-split: edge flips of slivers near cuts (§5.7.5)
     long long solver_iterations = 0;
     std::size_t local_solves = 0, local_nodes = 0, local_fallbacks = 0, global_cleanups = 0;
-    double solve_seconds = 0;    ///< equilibrium: local and global solves, moving along the rate
-    double stress_seconds = 0;   ///< stress evaluation, candidate search, Alg. 5's bracketing
-    double topology_seconds = 0; ///< removing and subdividing elements, matrix updates
+    std::size_t drift_relaxations = 0; ///< global relaxations after the §5.8.3 residual check
+    double solve_seconds = 0;          ///< equilibrium: local and global solves, moving along the rate
+    double stress_seconds = 0;         ///< stress evaluation, candidate search, Alg. 5's bracketing
+    double topology_seconds = 0;       ///< removing and subdividing elements, matrix updates
     double total_seconds = 0;
     double setup_seconds = 0; ///< fem-split: the first global solve and stress evaluation (in total_seconds)
+    /// fem-split: where and when each crack tip stopped (Griffith, Alg. 11), kind "arrest",
+    /// position the tip's reference point, ratio its stress over threshold then.
+    std::vector<Event> arrests_at;
 };
 
 /// Runs the element-removal model from the model's current time to `options.duration`.

@@ -286,6 +286,7 @@ private:
     std::vector<std::size_t> m_dormant;
     std::vector<Vec3> m_zones; // reference positions of arrested tips
     std::vector<std::size_t> m_rate_seeds;
+    bool m_in_trial = false;          ///< a Griffith trial is open: its relaxation may still be undone
     std::vector<double> m_node_ratio; // nodal ratio per vertex, valid where not dirty
     std::vector<char> m_node_dirty;
 };
@@ -310,6 +311,8 @@ std::vector<std::size_t> Splitter::relax_near(const std::vector<FaceId>& faces, 
     }
     m_rate_seeds.insert(m_rate_seeds.end(), seeds.begin(), seeds.end());
     m_stats.solve_seconds += timer.seconds();
+    // §5.8.3: no cascade of local relaxations may drift (a trial is checked once accepted).
+    if (!m_in_trial) check_drift(m_model, m_options, m_radius, m_stats);
     return m_model.last_updated_vertices();
 }
 
@@ -746,9 +749,11 @@ bool Splitter::extend_tip(std::size_t tip, Event& ev) {
     // cache is refreshed only once an extension is accepted, so it needs no undo.
     const bool trial = m_split.griffith;
     if (trial) m_model.begin_trial();
+    m_in_trial = trial;
     std::vector<FaceId> touched;
     const CutEnd end = cut_towards(tip, dir, touched);
     if (!end.ok || end.vertex == tip) {
+        m_in_trial = false;
         if (trial)
             m_model.rollback();
         else if (!touched.empty())
@@ -762,6 +767,7 @@ bool Splitter::extend_tip(std::size_t tip, Event& ev) {
     m_stats.topology_seconds += timer.seconds();
     if (!opened) {
         // The cut ran along an edge that was already cracked: the tip has nowhere to go.
+        m_in_trial = false;
         if (trial)
             m_model.rollback();
         else
@@ -769,7 +775,8 @@ bool Splitter::extend_tip(std::size_t tip, Event& ev) {
         return false;
     }
     double released = 0;
-    const std::vector<std::size_t> moved = relax_near(touched, &released);
+    std::vector<std::size_t> moved = relax_near(touched, &released);
+    m_in_trial = false;
 
     if (m_split.griffith) {
         // Alg. 11 with the physical ½F·u (digest caveat 1): cutting at fixed positions keeps
@@ -785,10 +792,19 @@ bool Splitter::extend_tip(std::size_t tip, Event& ev) {
             m_model.rollback();
             m_zones.push_back(m_model.mesh().positions[vertex_id(tip)]);
             ++m_stats.arrests;
+            Event arrest;
+            arrest.time = m_model.time();
+            arrest.position = m_zones.back();
+            arrest.kind = "arrest";
+            arrest.ratio = ns.ratio;
+            m_stats.arrests_at.push_back(arrest);
             return false;
         }
     }
-    if (trial) m_model.commit();
+    if (trial) {
+        m_model.commit();
+        if (check_drift(m_model, m_options, m_radius, m_stats)) moved = m_model.last_updated_vertices();
+    }
     refresh_after(touched, moved);
     // After the energy test: flips change the discrete energy at fixed nodes.
     const std::vector<FaceId> flipped = flip_slivers(touched);
@@ -959,7 +975,10 @@ std::vector<Event> Splitter::run(bool& capped) {
             const std::size_t tip = m_tips.front();
             m_tips.pop_front();
             Event ev;
-            if (extend_tip(tip, ev)) events.push_back(ev);
+            if (extend_tip(tip, ev)) {
+                events.push_back(ev);
+                if (m_options.after_event) m_options.after_event(m_model, ev);
+            }
             check("a crack-tip step");
             continue;
         }
@@ -968,9 +987,10 @@ std::vector<Event> Splitter::run(bool& capped) {
         if (pick_node(node, ratio)) {
             Event ev;
             const Start started = start_fracture(node, ratio, ev);
-            if (started == Start::Opened)
+            if (started == Start::Opened) {
                 events.push_back(ev);
-            else if (started == Start::Blocked)
+                if (m_options.after_event) m_options.after_event(m_model, ev);
+            } else if (started == Start::Blocked)
                 m_zones.push_back(m_model.mesh().positions[vertex_id(node)]); // nowhere to cut
             check("a new fracture");
             continue;

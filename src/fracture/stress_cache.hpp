@@ -194,6 +194,23 @@ inline void advance_model(sim::FemModel& model, StressCache& cache, double t, Ru
     stats.stress_seconds += timer.seconds();
 }
 
+/// §5.8.3, after a local relaxation: relaxes globally when the residual left anywhere exceeds
+/// FractureOptions::drift_tolerance of a threshold-level nodal force, and then doubles the
+/// local radius (the thesis' ρ increase). Returns whether it did (every node moved).
+inline bool check_drift(sim::FemModel& model, const FractureOptions& options, double& radius, RunStats& stats) {
+    if (!options.local_relaxation) return false;
+    Timer timer;
+    const bool over = model.max_residual_force() > options.drift_tolerance * model.force_scale();
+    if (over) {
+        stats.solver_iterations += model.relax().iterations;
+        ++stats.solves;
+        ++stats.drift_relaxations;
+        radius = std::min(2.0 * radius, 256.0);
+    }
+    stats.solve_seconds += timer.seconds();
+    return over;
+}
+
 /// Once per time step (§5.8): settles the rate solution around `rate_seeds` (the vertices whose
 /// elements changed since the last step; cleared), then relaxes globally when the local
 /// relaxations have left forces that could shift a stress by 1e-3 of a threshold (the thesis
@@ -208,10 +225,20 @@ inline void settle_time_step(sim::FemModel& model, StressCache& cache, const Fra
         // Seeds of rolled-back changes may name vertices that no longer exist.
         while (!rate_seeds.empty() && rate_seeds.back() >= model.mesh().num_vertices())
             rate_seeds.pop_back();
-        const sim::SolveStats s =
+        sim::SolveStats s =
             options.local_relaxation ? model.relax_rate_local(rate_seeds, rate_radius, local) : model.solve_rate();
         stats.solver_iterations += s.iterations;
         ++stats.solves;
+        // §5.8.3 for the rate, which Alg. 5's next fracture time rests on.
+        if (options.local_relaxation
+            && model.max_rate_residual_force()
+                   > options.drift_tolerance * model.force_scale() / std::max(options.duration, 1e-300)) {
+            s = model.solve_rate();
+            stats.solver_iterations += s.iterations;
+            ++stats.solves;
+            ++stats.drift_relaxations;
+            rate_radius = std::min(2.0 * rate_radius, 256.0);
+        }
         stats.solve_seconds += timer.seconds();
         timer.reset();
         cache.refresh_around(model.last_updated_vertices(), true);
@@ -230,6 +257,7 @@ inline void settle_time_step(sim::FemModel& model, StressCache& cache, const Fra
     } else {
         stats.solve_seconds += timer.seconds();
     }
+    if (options.before_time_step) options.before_time_step(model);
 }
 
 } // namespace crackle::fracture

@@ -219,6 +219,11 @@ std::vector<KeySpec> build_schema() {
                        "FEM methods, local relaxation: the relaxed set grows until the force left at its edge is "
                        "below this share of the change's own. Smaller = closer to a global solve, slower (a crack's "
                        "effect decays over about 1.6 layer thicknesses; docs/benchmarks.md)."));
+    s.push_back(number("simulation", "drift_tolerance", 1e-2, "", 1e-6, 1.0,
+                       "FEM methods, local relaxation: after each local re-solve the residual of the whole layer "
+                       "is checked (§5.8.3), and past this share of a threshold-level nodal force the layer is "
+                       "re-solved globally, so long cascades of cracks cannot drift from the global solution (the "
+                       "stress error stays within a few times this share of the threshold; docs/accuracy.md)."));
     s.push_back(choice("simulation", "density", "uniform", {"uniform", "thickness"},
                        "Element density: uniform, or thickness = element size proportional to the local layer "
                        "thickness (fine elements where cracks are dense)."));

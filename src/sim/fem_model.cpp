@@ -779,11 +779,20 @@ double FemModel::load_norm(Unknown u) {
 }
 
 double FemModel::max_residual_force() {
-    ensure_residual(Unknown::Position);
+    return max_residual(Unknown::Position);
+}
+
+double FemModel::max_rate_residual_force() {
+    return max_residual(Unknown::Rate);
+}
+
+double FemModel::max_residual(Unknown u) {
+    ensure_residual(u);
+    const Field& fd = field(u);
     double worst = 0;
     for (std::size_t v = 0; v < m_mesh.num_vertices(); ++v)
-        worst = std::max(worst, m_x.residual.segment<3>(static_cast<Eigen::Index>(3 * v)).norm());
-    return worst;
+        worst = std::max(worst, fd.residual.segment<3>(static_cast<Eigen::Index>(3 * v)).squaredNorm());
+    return std::sqrt(worst);
 }
 
 // === Equilibrium

@@ -157,6 +157,8 @@ public:
     const std::vector<std::size_t>& last_updated_vertices() const { return m_updated; }
     /// Largest nodal force left in the position residual (N).
     double max_residual_force();
+    /// The same for the rate solution ẋ (N per unit time).
+    double max_rate_residual_force();
     /// A nodal force that cracks an element: mean threshold × thickness × edge length (N).
     double force_scale() const { return m_force_scale; }
     /// Faces around a vertex (alive or not).
@@ -270,6 +272,7 @@ private:
     /// Recomputes the residual at the given vertices from their elements.
     void recompute_residual_at(Unknown u, const std::vector<std::size_t>& vertices);
     double load_norm(Unknown u);
+    double max_residual(Unknown u);
     SolveStats solve(const Eigen::VectorXd& rhs, Eigen::VectorXd& x, double abs_tolerance);
     SolveStats relax_field(Unknown u);
     SolveStats relax_field_local(Unknown u, const std::vector<std::size_t>& seeds, double& radius,

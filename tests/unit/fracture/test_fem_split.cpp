@@ -1,10 +1,13 @@
 #include "fracture/fem_split.hpp"
 #include "mesh/surface_mesh.hpp"
+#include "support/accuracy.hpp"
 #include "support/fracture_fixture.hpp"
 
 #include <doctest/doctest.h>
 
 #include <algorithm>
+#include <map>
+#include <memory>
 #include <numeric>
 
 using namespace crackle;
@@ -41,24 +44,39 @@ std::pair<mesh::FaceId, int> find_edge(const sim::FemModel& model, std::size_t p
 
 /// A loaded layer with a crack two edges long cut through it (split an edge in the middle,
 /// then open a → m → b): the scripted change the topology tests share.
+/// `size`: the tile's side; the cylinder is a tile that long around, the sphere one of the same
+/// area.
 struct CutLayer {
-    explicit CutLayer(std::uint64_t seed, std::size_t elements = 400, double size = 0.2)
+    explicit CutLayer(std::uint64_t seed, std::size_t elements = 400, double size = 0.2,
+                      mesh::SurfaceKind kind = mesh::SurfaceKind::Plane)
         : layer([&] {
               LayerSpec s = base_spec(seed, elements);
-              s.size = Vec2(size, size);
+              s.kind = kind;
+              s.size =
+                  kind == mesh::SurfaceKind::Sphere ? Vec2::Constant(size / (2 * std::sqrt(PI))) : Vec2(size, size);
               s.growth = {sim::GrowthKind::Isogonic, 2e-4, 2e-4, 0};
               return s;
           }()) {
         layer.model->set_time(0.5);
         layer.model->relax();
     }
-    /// Cuts; returns the vertices whose faces changed.
-    std::vector<std::size_t> cut() {
+    /// Splits the edge the crack will open (a → m → b); returns m.
+    std::size_t split() {
         sim::FemModel& m = *layer.model;
         const mesh::Face f0 = m.mesh().faces[mesh::face_id(0)];
-        const std::size_t a = mesh::ix(f0.v[0]), b = mesh::ix(f0.v[1]);
-        const auto [mid, faces] = m.split_edge(mesh::face_id(0), 0, 0.5);
-        const std::size_t mv = mesh::ix(mid);
+        a = mesh::ix(f0.v[0]);
+        b = mesh::ix(f0.v[1]);
+        mv = mesh::ix(m.split_edge(mesh::face_id(0), 0, 0.5).first);
+        return mv;
+    }
+    /// Splits and cuts; returns the vertices whose faces changed.
+    std::vector<std::size_t> cut() {
+        split();
+        return open();
+    }
+    /// Opens the split edge's two halves.
+    std::vector<std::size_t> open() {
+        sim::FemModel& m = *layer.model;
         const auto copies = m.cut({find_edge(m, a, mv), find_edge(m, mv, b)});
         CHECK(copies.size() == 1); // the middle vertex opens; a and b stay the slit's tips
         std::vector<std::size_t> seeds{a, b, mv};
@@ -67,106 +85,139 @@ struct CutLayer {
         return seeds;
     }
     test::Layer layer;
+    std::size_t a = 0, b = 0, mv = 0;
 };
-
-/// Reference y of the events of a run, sorted.
-std::vector<double> event_heights(const fracture::CrackPattern& p) {
-    std::vector<double> y;
-    for (const auto& e : p.events)
-        y.push_back(e.position.y());
-    std::sort(y.begin(), y.end());
-    return y;
-}
 
 } // namespace
 
 TEST_SUITE("fracture") {
-    TEST_CASE("fem-split: a rolled-back cut and refinement restore the model exactly") {
-        CutLayer c(1);
-        sim::FemModel& m = *c.layer.model;
-        const sim::FemModel before = m;
-        m.begin_trial();
-        auto seeds = c.cut();
-        // A local refinement too, as the tip sub-model of §5.7.8 makes and discards.
-        for (mesh::FaceId f : m.subdivide(mesh::face_id(7)))
-            for (mesh::VertexId w : m.mesh().faces[f].v)
-                seeds.push_back(mesh::ix(w));
-        double radius = 4;
-        m.relax_local(seeds, radius);
-        CHECK(m.mesh().num_vertices() > before.mesh().num_vertices());
-        m.rollback();
+    TEST_CASE("fem-split: a rolled-back cut and refinement restore the model exactly, on every surface") {
+        for (mesh::SurfaceKind kind :
+             {mesh::SurfaceKind::Plane, mesh::SurfaceKind::Cylinder, mesh::SurfaceKind::Sphere}) {
+            CAPTURE(std::string(mesh::to_string(kind)));
+            CutLayer c(1, 400, 0.2, kind);
+            sim::FemModel& m = *c.layer.model;
+            const sim::FemModel before = m;
+            m.begin_trial();
+            auto seeds = c.cut();
+            // A local refinement too, as the tip sub-model of §5.7.8 makes and discards.
+            for (mesh::FaceId f : m.subdivide(mesh::face_id(7)))
+                for (mesh::VertexId w : m.mesh().faces[f].v)
+                    seeds.push_back(mesh::ix(w));
+            double radius = 4;
+            m.relax_local(seeds, radius);
+            CHECK(m.mesh().num_vertices() > before.mesh().num_vertices());
+            m.rollback();
 
-        REQUIRE(m.mesh().num_vertices() == before.mesh().num_vertices());
-        REQUIRE(m.mesh().num_faces() == before.mesh().num_faces());
-        CHECK(m.mesh().validate().empty());
-        for (std::size_t f = 0; f < m.mesh().num_faces(); ++f) {
-            const auto& x = m.mesh().faces[mesh::face_id(f)];
-            const auto& y = before.mesh().faces[mesh::face_id(f)];
-            CHECK(x.v == y.v);
-            CHECK(x.offset == y.offset);
-            for (int k = 0; k < 3; ++k)
-                CHECK(m.mesh().neighbor(mesh::face_id(f), k).face == before.mesh().neighbor(mesh::face_id(f), k).face);
+            REQUIRE(m.mesh().num_vertices() == before.mesh().num_vertices());
+            REQUIRE(m.mesh().num_faces() == before.mesh().num_faces());
+            CHECK(m.mesh().validate().empty());
+            for (std::size_t f = 0; f < m.mesh().num_faces(); ++f) {
+                const auto& x = m.mesh().faces[mesh::face_id(f)];
+                const auto& y = before.mesh().faces[mesh::face_id(f)];
+                CHECK(x.v == y.v);
+                CHECK(x.offset == y.offset);
+                for (int k = 0; k < 3; ++k)
+                    CHECK(m.mesh().neighbor(mesh::face_id(f), k).face
+                          == before.mesh().neighbor(mesh::face_id(f), k).face);
+            }
+            for (std::size_t v = 0; v < m.mesh().num_vertices(); ++v) {
+                CHECK(m.mesh().positions[mesh::vertex_id(v)] == before.mesh().positions[mesh::vertex_id(v)]);
+                CHECK(m.top_position(mesh::vertex_id(v)) == before.top_position(mesh::vertex_id(v)));
+                CHECK(m.incident_faces(v) == before.incident_faces(v));
+            }
+            CHECK(m.strain_energy() == before.strain_energy());
+            // The stiffness too: the same relaxation from a perturbed state lands on the same nodes.
+            sim::FemModel again = before;
+            m.set_time(0.6);
+            again.set_time(0.6);
+            m.relax();
+            again.relax();
+            double worst = 0, scale = 0;
+            for (std::size_t v = 0; v < m.mesh().num_vertices(); ++v) {
+                worst = std::max(worst,
+                                 (m.top_position(mesh::vertex_id(v)) - again.top_position(mesh::vertex_id(v))).norm());
+                scale = std::max(
+                    scale, (again.top_position(mesh::vertex_id(v)) - before.top_position(mesh::vertex_id(v))).norm());
+            }
+            CHECK(scale > 0);
+            CHECK(worst <= 1e-9 * scale);
         }
-        for (std::size_t v = 0; v < m.mesh().num_vertices(); ++v) {
-            CHECK(m.mesh().positions[mesh::vertex_id(v)] == before.mesh().positions[mesh::vertex_id(v)]);
-            CHECK(m.top_position(mesh::vertex_id(v)) == before.top_position(mesh::vertex_id(v)));
-            CHECK(m.incident_faces(v) == before.incident_faces(v));
-        }
-        CHECK(m.strain_energy() == before.strain_energy());
-        // The stiffness too: the same relaxation from a perturbed state lands on the same nodes.
-        sim::FemModel again = before;
-        m.set_time(0.6);
-        again.set_time(0.6);
-        m.relax();
-        again.relax();
-        double worst = 0, scale = 0;
-        for (std::size_t v = 0; v < m.mesh().num_vertices(); ++v) {
-            worst =
-                std::max(worst, (m.top_position(mesh::vertex_id(v)) - again.top_position(mesh::vertex_id(v))).norm());
-            scale = std::max(scale,
-                             (again.top_position(mesh::vertex_id(v)) - before.top_position(mesh::vertex_id(v))).norm());
-        }
-        CHECK(scale > 0);
-        CHECK(worst <= 1e-9 * scale);
     }
 
-    TEST_CASE("fem-split: a cut keeps the strain energy; the relaxation releases exactly ½ rᵀΔx of it") {
-        CutLayer c(2);
-        sim::FemModel& m = *c.layer.model;
-        const double e0 = m.strain_energy();
-        c.cut();
-        const double e1 = m.strain_energy();
-        CHECK(e1 == doctest::Approx(e0).epsilon(1e-12)); // nodes duplicated in place
-        const sim::SolveStats s = m.relax();
-        const double e2 = m.strain_energy();
-        CHECK(e2 < e1);
-        CHECK(s.energy_release == doctest::Approx(e1 - e2).epsilon(1e-6));
-        CHECK(fracture::check_split_invariants(m).empty());
+    TEST_CASE("fem-split: a cut keeps the strain energy, its relaxation releases exactly ½ rᵀΔx of it, and the edge "
+              "split before it releases next to nothing, on every surface") {
+        for (mesh::SurfaceKind kind :
+             {mesh::SurfaceKind::Plane, mesh::SurfaceKind::Cylinder, mesh::SurfaceKind::Sphere}) {
+            std::vector<double> share;
+            for (std::size_t elements : {400u, 1600u}) {
+                CAPTURE(std::string(mesh::to_string(kind)));
+                CAPTURE(elements);
+                CutLayer c(2, elements, 0.2, kind);
+                sim::FemModel& m = *c.layer.model;
+                // The split node starts at its rest position plus the interpolated displacement:
+                // on the plane that is the equilibrium; on a curved surface the finer facets
+                // move it a little (the discretisation converging), not by a misfit.
+                c.split();
+                const sim::SolveStats split = m.relax();
+                const double e0 = m.strain_energy();
+                c.open();
+                const double e1 = m.strain_energy();
+                CHECK(e1 == doctest::Approx(e0).epsilon(1e-12)); // nodes duplicated in place
+                const sim::SolveStats s = m.relax();
+                const double e2 = m.strain_energy();
+                CHECK(e2 < e1);
+                CHECK(s.energy_release == doctest::Approx(e1 - e2).epsilon(1e-6));
+                CHECK(fracture::check_split_invariants(m).empty());
+                share.push_back(split.energy_release / s.energy_release);
+                CHECK(share.back() < 0.03); // R ≈ 5 edges at 400 elements: measured 1.3 % (cylinder), 2.2 % (sphere)
+                if (kind == mesh::SurfaceKind::Plane) CHECK(share.back() < 1e-9);
+                test::record_claim("Alg. 11",
+                                   std::string("energy released by relaxing a cut = strain-energy drop (")
+                                       + mesh::to_string(kind) + ", " + std::to_string(elements) + " elements)",
+                                   "|½ rᵀΔx / (E₁ − E₂) − 1|", std::abs(s.energy_release / (e1 - e2) - 1), "< 1e-6");
+                test::record_claim("Alg. 11",
+                                   std::string("an edge split releases next to nothing next to the cut (")
+                                       + mesh::to_string(kind) + ", " + std::to_string(elements) + " elements)",
+                                   "split's release / cut's release", share.back(), "< 0.03");
+            }
+            if (kind != mesh::SurfaceKind::Plane) CHECK(share[1] < 0.5 * share[0]); // and less on finer meshes
+        }
     }
 
-    TEST_CASE("fem-split: local relaxation after a cut reaches the global solution") {
-        // A tile wide enough that the relaxed set (about 5 decay lengths 1.6h for a 1e-2
-        // force tolerance, docs/perf-limits.md) stays local.
-        CutLayer c(3, 3000, 0.5);
-        const sim::FemModel before = *c.layer.model;
-        const auto seeds = c.cut();
-        sim::FemModel global = *c.layer.model;
-        sim::FemModel& local = *c.layer.model;
-        double radius = 2;
-        const sim::SolveStats s = local.relax_local(seeds, radius);
-        global.relax();
-        CHECK(s.nodes < local.mesh().num_vertices()); // it did stay local
-        double worst = 0, moved = 0;
-        for (std::size_t v = 0; v < global.mesh().num_vertices(); ++v) {
-            const Vec3 g = global.top_position(mesh::vertex_id(v));
-            worst = std::max(worst, (local.top_position(mesh::vertex_id(v)) - g).norm());
-            if (v < before.mesh().num_vertices())
-                moved = std::max(moved, (g - before.top_position(mesh::vertex_id(v))).norm());
+    TEST_CASE("fem-split: local relaxation after a cut reaches the global solution, on every surface") {
+        for (mesh::SurfaceKind kind :
+             {mesh::SurfaceKind::Plane, mesh::SurfaceKind::Cylinder, mesh::SurfaceKind::Sphere}) {
+            CAPTURE(std::string(mesh::to_string(kind)));
+            // A tile wide enough that the relaxed set (about 5 decay lengths 1.6h for a 1e-2
+            // force tolerance, docs/perf-limits.md) stays local.
+            CutLayer c(3, 3000, 0.5, kind);
+            c.split(); // on curved surfaces the split's own small release is not the cut's (test above)
+            c.layer.model->relax();
+            const sim::FemModel before = *c.layer.model;
+            const auto seeds = c.open();
+            sim::FemModel global = *c.layer.model;
+            sim::FemModel& local = *c.layer.model;
+            double radius = 2;
+            const sim::SolveStats s = local.relax_local(seeds, radius);
+            global.relax();
+            CHECK(s.nodes < local.mesh().num_vertices()); // it did stay local
+            double worst = 0, moved = 0;
+            for (std::size_t v = 0; v < global.mesh().num_vertices(); ++v) {
+                const Vec3 g = global.top_position(mesh::vertex_id(v));
+                worst = std::max(worst, (local.top_position(mesh::vertex_id(v)) - g).norm());
+                if (v < before.mesh().num_vertices())
+                    moved = std::max(moved, (g - before.top_position(mesh::vertex_id(v))).norm());
+            }
+            CAPTURE(worst);
+            CAPTURE(moved);
+            CHECK(moved > 0);
+            CHECK(worst < 1e-2 * moved); // the force tolerance is 1e-2 of the change
+            test::record_claim("5.25",
+                               std::string("local relaxation after one cut equals the global solve (")
+                                   + mesh::to_string(kind) + ")",
+                               "largest position error / largest displacement the cut caused", worst / moved, "< 1e-2");
         }
-        CAPTURE(worst);
-        CAPTURE(moved);
-        CHECK(moved > 0);
-        CHECK(worst < 1e-2 * moved); // the force tolerance is 1e-2 of the change
     }
 
     TEST_CASE("fem-split: tips extend first in first out, both ends of a new crack in turn (Fig. 5.20)") {
@@ -200,40 +251,101 @@ TEST_SUITE("fracture") {
         }
     }
 
-    TEST_CASE("fem-split: Griffith arrest: cracks start on the strongly loaded side and stop before the weak side "
-              "(Fig. 5.21)") {
-        // E rises along y from 0.2 to 1.8 GPa (stress ∝ E under a uniform stretch along x), so
-        // cracks start near the top and run down until the released energy no longer pays
-        // for the new crack wall. Griffith's criterion does not depend on the element size.
-        auto spec = [](std::size_t elements) {
-            LayerSpec s = base_spec(1, elements);
-            s.growth = {sim::GrowthKind::Anisotropic, 8e-5, 0.0, 0.0};
-            s.toughness = 6000;
-            s.young_variation.pattern = sim::PatternKind::Gradient;
-            s.young_variation.angle_deg = 90;
+    TEST_CASE("fem-split: Griffith arrest: cracks start where the layer is stiff and every tip stops where the energy "
+              "released no longer pays for the crack wall, on plane and cylinder, at every resolution (Fig. 5.21)") {
+        // E peaks along the middle line v = ½ (1.8 GPa) and falls to 0.2 GPa at v = 0 and 1
+        // (a tent, continuous across the periodic seam); a uniform stretch across v loads the
+        // stiff middle most, so cracks start there and run both ways along v. A channel crack
+        // releases G ∝ E·ε²·h, and the wall costs G_IC = (1 − ν²)K²/E, so a tip stops where
+        // E·ε = const: with ε = r·t, E(tip)·t(arrest) is the same for every tip, whatever
+        // its crack's start time, mesh or surface.
+        auto tent = std::make_shared<GrayImage>();
+        tent->width = 1;
+        tent->height = 64;
+        for (int j = 0; j < 64; ++j)
+            tent->pixels.push_back(float(1.0 - std::abs(2.0 * (j + 0.5) / 64 - 1.0)));
+        auto spec = [&](mesh::SurfaceKind kind, std::size_t elements_per_0_04_m2, double toughness) {
+            LayerSpec s = base_spec(1);
+            s.kind = kind;
+            // The cylinder's circumference 0.6 m (R = 9.5 cm, about 10 layer thicknesses).
+            s.size = kind == mesh::SurfaceKind::Plane ? Vec2(0.2, 0.2) : Vec2(0.6, 0.2);
+            s.elements = elements_per_0_04_m2 * (kind == mesh::SurfaceKind::Plane ? 1 : 3);
+            s.growth = {sim::GrowthKind::Anisotropic, 8e-5, 0.0, 0.0}; // stretch across v (around the trunk)
+            s.toughness = toughness;
+            s.young_variation.pattern = sim::PatternKind::Image;
+            s.young_variation.image = tent;
             s.young_variation.amplitude = 0.8;
             return s;
         };
-        std::vector<double> lowest;
-        for (std::size_t elements : {800u, 1600u}) {
-            const auto r = test::run_split(spec(elements));
-            CAPTURE(elements);
-            REQUIRE(r.run.splits > 2);
-            CHECK(r.run.arrests > 0);
-            for (const auto& e : r.pattern.events)
-                if (e.kind == "split") CHECK(e.position.y() > 0.15); // the stiff quarter
-            const auto y = event_heights(r.pattern);
-            lowest.push_back(y[y.size() / 20]); // 5th percentile: where the cracks stop
-            CHECK(lowest.back() > 0.06);        // well before the weak side
-        }
-        CAPTURE(lowest[0]);
-        CAPTURE(lowest[1]);
-        CHECK(std::abs(lowest[0] - lowest[1]) < 0.03); // 15 % of the tile across a 2× refinement
+        std::map<std::pair<int, std::size_t>, double> balance; // (surface, resolution) → mean E·t
+        for (mesh::SurfaceKind kind : {mesh::SurfaceKind::Plane, mesh::SurfaceKind::Cylinder})
+            for (std::size_t elements : {800u, 1600u}) {
+                const LayerSpec s = spec(kind, elements, 6000);
+                test::Layer layer(s);
+                fracture::FractureOptions o;
+                fracture::SplitOptions split;
+                split.check_invariants = true;
+                Rng rng(s.seed, RngStream::Fracture);
+                fracture::RunStats run;
+                const auto pattern = fracture::run_fem_split(*layer.model, o, split, rng, &run);
+                CAPTURE(std::string(mesh::to_string(kind)));
+                CAPTURE(elements);
+                REQUIRE(run.splits >= 4);
+                REQUIRE(run.arrests_at.size() >= 8);
+                for (const auto& e : pattern.events)
+                    if (e.kind == "split") CHECK(std::abs(layer.surface.uv(e.position).y() - 0.5) < 0.05);
+                std::vector<double> c;
+                double weakest = INFINITY;
+                for (const auto& a : run.arrests_at) {
+                    const double E = layer.young.at(a.position, layer.surface.uv(a.position));
+                    c.push_back(E * a.time);
+                    weakest = std::min(weakest, E);
+                }
+                const double m = mean(c);
+                double worst = 0, var = 0;
+                for (double x : c) {
+                    worst = std::max(worst, std::abs(x / m - 1));
+                    var += sqr(x / m - 1);
+                }
+                const double spread = std::sqrt(var / double(c.size()));
+                CAPTURE(m);
+                CAPTURE(worst);
+                CAPTURE(spread);
+                CHECK(spread < 0.12); // every tip on the same balance...
+                CHECK(worst < 0.3);
+                CHECK(weakest > 0.5e9); // ...so no tip reaches the weak side (0.2 GPa)
+                balance[{int(kind), elements}] = m;
+                test::record_claim("5.21",
+                                   std::string("Griffith arrest per tip, ") + mesh::to_string(kind) + ", "
+                                       + std::to_string(s.elements) + " elements",
+                                   "spread (rms, relative) of E(tip)·t(arrest) over " + std::to_string(c.size())
+                                       + " tips",
+                                   spread, "< 0.12");
+            }
+        // Independent of the element size (Ch. 6) and of the surface.
+        const double plane = balance[{int(mesh::SurfaceKind::Plane), 800}];
+        const double plane_fine = balance[{int(mesh::SurfaceKind::Plane), 1600}];
+        const double cyl = balance[{int(mesh::SurfaceKind::Cylinder), 800}];
+        const double cyl_fine = balance[{int(mesh::SurfaceKind::Cylinder), 1600}];
+        CHECK(plane_fine == doctest::Approx(plane).epsilon(0.08));
+        CHECK(cyl_fine == doctest::Approx(cyl).epsilon(0.08));
+        CHECK(cyl == doctest::Approx(plane).epsilon(0.15));
+        test::record_claim("5.21", "Griffith arrest independent of the element size (plane, 800 vs 1600 elements)",
+                           "relative change of the mean E(tip)·t(arrest)", std::abs(plane_fine / plane - 1), "< 0.08");
+        test::record_claim("5.21", "Griffith arrest independent of the element size (cylinder, 2400 vs 4800)",
+                           "relative change of the mean E(tip)·t(arrest)", std::abs(cyl_fine / cyl - 1), "< 0.08");
+        test::record_claim("5.21", "Griffith arrest: cylinder (R = 10 h) against plane",
+                           "relative difference of the mean E(tip)·t(arrest)", std::abs(cyl / plane - 1), "< 0.15");
         // With a negligible toughness the same cracks run through the weak side.
-        LayerSpec brittle = spec(800);
-        brittle.toughness = 1;
+        const LayerSpec brittle = spec(mesh::SurfaceKind::Plane, 800, 1);
         const auto free_run = test::run_split(brittle);
-        CHECK(event_heights(free_run.pattern).front() < 0.02);
+        CHECK(free_run.run.arrests == 0);
+        double lowest = 1;
+        for (const auto& e : free_run.pattern.events) {
+            const double v = brittle.size.y() > 0 ? e.position.y() / brittle.size.y() : 0;
+            lowest = std::min(lowest, std::min(v, 1 - v));
+        }
+        CHECK(lowest < 0.05);
     }
 
     TEST_CASE("fem-split: cuts leave no triangle below the minimum angle (edge collapse §5.7.5 and smoothing §5.7.9)") {
@@ -311,30 +423,37 @@ TEST_SUITE("fracture") {
         CHECK(area_ratio < 1.4);
     }
 
-    TEST_CASE("fem-split: crack length and fragments grow monotonically in time; the run is reproducible "
-              "(Fig. 5.30)") {
+    TEST_CASE("fem-split: crack length and fragments grow monotonically through one run, later cracks end on earlier "
+              "ones; the run is reproducible (Fig. 5.30)") {
         LayerSpec s = base_spec(5);
         s.shrinkage = {3e-4, 3e-4};
-        double last_length = 0, last_fragments = 0;
-        std::size_t last_splits = 0;
-        for (double duration : {0.5, 0.75, 1.0}) {
-            const auto r = test::run_split(s, duration);
-            CAPTURE(duration);
-            CHECK(r.stats.crack_length_per_area >= last_length);
-            CHECK(double(r.stats.fragments) >= last_fragments);
-            CHECK(r.run.splits >= last_splits);
-            last_length = r.stats.crack_length_per_area;
-            last_fragments = double(r.stats.fragments);
-            last_splits = r.run.splits;
-            for (std::size_t i = 1; i < r.pattern.events.size(); ++i)
-                CHECK(r.pattern.events[i].time >= r.pattern.events[i - 1].time);
+        // Snapshots of one run, at every time step.
+        std::vector<fracture::PatternStatistics> snaps;
+        fracture::FractureOptions o;
+        o.before_time_step = [&](const sim::FemModel& m) {
+            snaps.push_back(fracture::pattern_statistics(fracture::pattern_from_model(m, "fem-split", 0)));
+        };
+        const auto r = test::run_split(s, 1.0, {}, o);
+        REQUIRE(snaps.size() > 5);
+        snaps.push_back(r.stats);
+        std::size_t grew = 0;
+        for (std::size_t i = 1; i < snaps.size(); ++i) {
+            CAPTURE(i);
+            CHECK(snaps[i].crack_length >= snaps[i - 1].crack_length);
+            CHECK(snaps[i].fragments >= snaps[i - 1].fragments);
+            grew += snaps[i].crack_length > snaps[i - 1].crack_length;
         }
-        CHECK(last_fragments > 5);
-        const auto a = test::run_split(s), b = test::run_split(s);
-        REQUIRE(a.pattern.events.size() == b.pattern.events.size());
-        for (std::size_t i = 0; i < a.pattern.events.size(); ++i) {
-            CHECK(a.pattern.events[i].time == b.pattern.events[i].time);
-            CHECK(a.pattern.events[i].position == b.pattern.events[i].position);
+        CHECK(grew > 3); // a sequence, not one burst
+        CHECK(r.stats.fragments > 5);
+        // Hierarchical: cracks that start later meet the earlier ones at right angles.
+        CHECK(r.stats.t_junction_fraction > 2 * r.stats.y_junction_fraction);
+        for (std::size_t i = 1; i < r.pattern.events.size(); ++i)
+            CHECK(r.pattern.events[i].time >= r.pattern.events[i - 1].time);
+        const auto b = test::run_split(s);
+        REQUIRE(r.pattern.events.size() == b.pattern.events.size());
+        for (std::size_t i = 0; i < r.pattern.events.size(); ++i) {
+            CHECK(r.pattern.events[i].time == b.pattern.events[i].time);
+            CHECK(r.pattern.events[i].position == b.pattern.events[i].position);
         }
     }
 
@@ -410,16 +529,36 @@ TEST_SUITE("fracture") {
         CHECK(mean(with) == doctest::Approx(mean(without)).epsilon(0.25));
     }
 
-    TEST_CASE("fem-split: cracks on a cylinder and a sphere keep the mesh valid") {
-        for (mesh::SurfaceKind kind : {mesh::SurfaceKind::Cylinder, mesh::SurfaceKind::Sphere}) {
-            LayerSpec s = base_spec(8, 800);
-            s.kind = kind;
-            s.size = kind == mesh::SurfaceKind::Sphere ? Vec2(0.06, 0.06) : Vec2(0.2, 0.2);
-            s.shrinkage = {3e-4, 3e-4};
-            const auto r = test::run_split(s);
-            CAPTURE(int(kind));
-            CHECK(r.run.splits > 3);
-            CHECK(r.stats.fragments > 1);
+    TEST_CASE("fem-split: drying mud on a cylinder and a sphere meets at T-junctions like on the plane, with the "
+              "mesh valid after every step") {
+        std::map<int, double> density;
+        for (mesh::SurfaceKind kind :
+             {mesh::SurfaceKind::Plane, mesh::SurfaceKind::Cylinder, mesh::SurfaceKind::Sphere}) {
+            std::vector<double> t, y, rho;
+            for (std::uint64_t seed : {1u, 2u}) {
+                LayerSpec s = base_spec(seed, 800);
+                s.kind = kind;
+                s.size = kind == mesh::SurfaceKind::Sphere ? Vec2(0.06, 0.06) : Vec2(0.2, 0.2);
+                s.shrinkage = {3e-4, 3e-4};
+                const auto r = test::run_split(s); // invariants checked after every topology change
+                CAPTURE(std::string(mesh::to_string(kind)));
+                CAPTURE(seed);
+                CHECK(r.stats.fragments > 10);
+                CHECK(r.stats.junctions > 20);
+                t.push_back(r.stats.t_junction_fraction);
+                y.push_back(r.stats.y_junction_fraction);
+                rho.push_back(r.stats.crack_length_per_area);
+            }
+            CAPTURE(std::string(mesh::to_string(kind)));
+            CHECK(mean(t) > 2 * mean(y));
+            CHECK(mean(t) > 0.6);
+            density[int(kind)] = mean(rho);
         }
+        // Curvature changes the density little: R = 3.2 h (cylinder), 6 h (sphere).
+        const double plane = density[int(mesh::SurfaceKind::Plane)];
+        MESSAGE("crack length per area: plane " << plane << ", cylinder " << density[int(mesh::SurfaceKind::Cylinder)]
+                                                << ", sphere " << density[int(mesh::SurfaceKind::Sphere)]);
+        CHECK(density[int(mesh::SurfaceKind::Cylinder)] == doctest::Approx(plane).epsilon(0.15));
+        CHECK(density[int(mesh::SurfaceKind::Sphere)] == doctest::Approx(plane).epsilon(0.15));
     }
 }

@@ -24,6 +24,37 @@ LayerSpec strong_mud(std::uint64_t seed) {
     return s;
 }
 
+/// Largest difference of any top stress component (or its rate × the run's duration) between two
+/// models of the same mesh, in thresholds.
+double stress_difference(const sim::FemModel& a, const sim::FemModel& b, bool rate, double duration = 1.0) {
+    double d = 0;
+    for (std::size_t f = 0; f < a.mesh().num_faces(); ++f) {
+        const auto id = mesh::face_id(f);
+        if (!a.alive(id)) continue;
+        const auto sa = rate ? a.top_stress_rate(id) : a.top_stress(id);
+        const auto sb = rate ? b.top_stress_rate(id) : b.top_stress(id);
+        for (std::size_t k = 0; k < 3; ++k)
+            d = std::max(d, (sa[k] - sb[k]).cwiseAbs().maxCoeff() * (rate ? duration : 1.0)
+                                / a.material(id).threshold_stress);
+    }
+    return d;
+}
+
+/// A scene with long cascades: cracks that run across the whole tile in one time step
+/// (stretch around and a negligible toughness on plane and cylinder; mud on the sphere).
+LayerSpec cascade_scene(mesh::SurfaceKind kind) {
+    LayerSpec s;
+    s.kind = kind;
+    s.size = kind == mesh::SurfaceKind::Sphere ? Vec2(0.06, 0.06) : Vec2(0.2, 0.2);
+    s.elements = 800;
+    s.toughness = 1;
+    if (kind == mesh::SurfaceKind::Sphere)
+        s.shrinkage = {3e-4, 3e-4};
+    else
+        s.growth = {sim::GrowthKind::Anisotropic, 3e-4, 0.0, 0.0};
+    return s;
+}
+
 } // namespace
 
 TEST_SUITE("fracture") {
@@ -90,6 +121,67 @@ TEST_SUITE("fracture") {
                         ++resumed;
                 CHECK(resumed > 0);
             }
+        }
+    }
+
+    TEST_CASE("loops: a long cascade of local relaxations does not drift from global relaxation, on plane, cylinder "
+              "and sphere (§5.8.3)") {
+        for (mesh::SurfaceKind kind :
+             {mesh::SurfaceKind::Plane, mesh::SurfaceKind::Cylinder, mesh::SurfaceKind::Sphere}) {
+            const LayerSpec s = cascade_scene(kind);
+            fracture::FractureOptions local;
+            double position_error = 0, rate_error = 0;
+            std::size_t longest = 0, run_length = 0;
+            double last_time = -1;
+            // After every event: the stresses of the locally relaxed model against a global
+            // solve of the same mesh; at every time step the same for the stress rates.
+            local.after_event = [&](const sim::FemModel& m, const fracture::Event& ev) {
+                sim::FemModel g = m;
+                g.relax();
+                position_error = std::max(position_error, stress_difference(m, g, false));
+                run_length = ev.time == last_time ? run_length + 1 : 1;
+                last_time = ev.time;
+                longest = std::max(longest, run_length);
+            };
+            local.before_time_step = [&](const sim::FemModel& m) {
+                sim::FemModel g = m;
+                g.relax();
+                g.solve_rate();
+                rate_error = std::max(rate_error, stress_difference(m, g, true, local.duration));
+            };
+            const auto l = test::run_split(s, 1.0, {}, local);
+            fracture::FractureOptions global;
+            global.local_relaxation = false;
+            const auto g = test::run_split(s, 1.0, {}, global);
+            CAPTURE(std::string(mesh::to_string(kind)));
+            CAPTURE(position_error);
+            CAPTURE(rate_error);
+            CHECK(longest >= 30); // a long cascade: this many events at one time
+            // The residual check bounds the error (about 4.5 × the tolerance was measured).
+            CHECK(position_error < 6 * local.drift_tolerance);
+            CHECK(rate_error < 6 * local.drift_tolerance);
+            // The same events: the order within a cascade may change once tiny differences
+            // reorder the tips, but every crack is made, at the same place (within a fifth of
+            // an element), and the patterns agree.
+            REQUIRE(!l.pattern.events.empty());
+            std::size_t matched = 0;
+            for (const auto& e : l.pattern.events)
+                for (const auto& f : g.pattern.events)
+                    if (e.kind == f.kind && (e.position - f.position).norm() < 3e-3) {
+                        ++matched;
+                        break;
+                    }
+            const double share = double(matched) / double(l.pattern.events.size());
+            CHECK(share > 0.98);
+            CHECK(double(l.pattern.events.size()) == doctest::Approx(double(g.pattern.events.size())).epsilon(0.02));
+            CHECK(l.stats.crack_length_per_area == doctest::Approx(g.stats.crack_length_per_area).epsilon(0.01));
+            CHECK(l.stats.fragments == g.stats.fragments);
+            const std::string where = mesh::to_string(kind);
+            test::record_claim("5.25",
+                               "local relaxation equals the global solve through a long cascade (" + where + ")",
+                               "largest stress error after any event, in thresholds", position_error, "< 0.06");
+            test::record_claim("5.25", "local relaxation: same events as global relaxation (" + where + ")",
+                               "share of events matched within 3 mm", share, "> 0.98");
         }
     }
 }
