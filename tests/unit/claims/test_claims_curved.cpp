@@ -554,16 +554,18 @@ TEST_SUITE("claims") {
             const double R = C / TWO_PI;
             const double lame = test::lame_hoop_stress(1e9, 0.3, R, 0.015, TOP_GAUSS, 0.004, 0.0005);
             const double thin = 1e9 / (1 - 0.09) * (0.004 + 0.3 * 0.0005);
+            // Asserted below: within 20 % at C = 1.2 m, and closer there than at C = 0.3 m.
+            const std::string converge = C == circumference.back() ? "|1 - x| < 0.2, < at C = 0.3 m" : "recorded";
             const std::string at = ", C = " + std::to_string(C).substr(0, 3) + " m (cylinder / plane, 2 seeds)";
             test::record_claim("curvature", "first fracture later on a trunk by Lame's factor",
                                "(first fracture time ratio - 1) / (Lame stress ratio - 1)" + at,
                                (first_ratio.back() - 1) / (thin / lame - 1), "in [0.8, 1.5]");
             test::record_claim("curvature", "fissures approach the plane's", "fissure count ratio" + at,
-                               fissure_ratio.back(), "-> 1");
+                               fissure_ratio.back(), converge);
             test::record_claim("curvature", "new fractures approach the plane's", "new fracture count ratio" + at,
-                               split_ratio.back(), "-> 1");
+                               split_ratio.back(), converge);
             test::record_claim("curvature", "crack density approaches the plane's", "rho_c ratio" + at,
-                               rho_ratio.back(), "-> 1");
+                               rho_ratio.back(), converge);
             test::record_claim("curvature", "arrests approach the plane's (slowly)", "arrest count ratio" + at,
                                arrest_ratio.back(), "recorded");
             CHECK((first_ratio.back() - 1) / (thin / lame - 1) > 0.8);
