@@ -1,5 +1,6 @@
 #include "core/error.hpp"
 #include "fracture/bar1d.hpp"
+#include "support/accuracy.hpp"
 
 #include <doctest/doctest.h>
 
@@ -48,12 +49,18 @@ TEST_SUITE("fracture") {
     TEST_CASE("bar1d: discrete maximum tension matches the digest reference values") {
         const std::array<int, 5> springs = {8, 16, 32, 64, 256};
         const std::array<double, 5> reference = {0.0187053, 0.0188021, 0.0188269, 0.0188332, 0.0188351};
+        double worst = 0;
         for (std::size_t k = 0; k < springs.size(); ++k) {
             CAPTURE(springs[k]);
             CHECK(std::abs(discrete_max_tension(springs[k]) - reference[k]) < 1e-6);
+            worst = std::max(worst, std::abs(discrete_max_tension(springs[k]) - reference[k]));
         }
         const double analytic = bar1d::max_tension_free(DIGEST_STIFFNESS, 1.0, DIGEST_SEGMENT.mismatch());
         CHECK(std::abs(analytic - 0.0188353) < 1e-7);
+        test::record_claim("7.3 1D analytic bar", "discrete T_max matches the digest's values (§2.6.2)",
+                           "largest |T_max − reference| over 8..256 springs", worst, "< 1e-6");
+        test::record_claim("7.3 1D analytic bar", "analytic T_max matches the digest's value (§2.6.2)",
+                           "|T_max − 0.0188353|", std::abs(analytic - 0.0188353), "< 1e-7");
     }
 
     TEST_CASE("bar1d: discrete maximum tension converges to the analytic value at second order") {
@@ -65,13 +72,20 @@ TEST_SUITE("fracture") {
             CHECK(T < analytic); // the discrete bar is slightly stiffer near its ends
             error.push_back(analytic - T);
         }
+        double lowest = 1e300, highest = 0;
         for (std::size_t k = 1; k < error.size(); ++k) {
             const double ratio = error[k - 1] / error[k];
             CAPTURE(k);
             CAPTURE(ratio);
             CHECK(ratio > 3.5);
             CHECK(ratio < 4.5);
+            lowest = std::min(lowest, ratio);
+            highest = std::max(highest, ratio);
         }
+        test::record_claim("A.2", "discrete T_max converges at O(h²) (8 → 256 springs)",
+                           "smallest error ratio per halving of h", lowest, "> 3.5 (4 = second order)");
+        test::record_claim("A.2", "discrete T_max converges at O(h²) (8 → 256 springs)",
+                           "largest error ratio per halving of h", highest, "< 4.5");
     }
 
     TEST_CASE("bar1d: discrete equilibrium satisfies Eq. A.1 and the free-end equations A.7 and A.8") {
@@ -106,6 +120,7 @@ TEST_SUITE("fracture") {
         const bar1d::Segment segment{1.3, 0.1, 1.5, 0.95}; // d = 0.165 with shrinkage λ = 0.95
         const double l0 = segment.l0;
         const double delta = 1e-4;
+        double residual = 0;
         for (const auto type : {bar1d::BoundaryType::FreeFree, bar1d::BoundaryType::LeftFixed,
                                 bar1d::BoundaryType::RightFixed, bar1d::BoundaryType::BothFixed}) {
             CAPTURE(static_cast<int>(type));
@@ -120,6 +135,8 @@ TEST_SUITE("fracture") {
                     (bar1d::position(s, x + delta) - 2.0 * p + bar1d::position(s, x - delta)) / (delta * delta);
                 const double anchor = (segment.an - segment.a0) / l0 * x + segment.a0;
                 CHECK(std::abs(-stiffness.K_S * p_xx + stiffness.K_A * p - stiffness.K_A * anchor) < 1e-5);
+                residual =
+                    std::max(residual, std::abs(-stiffness.K_S * p_xx + stiffness.K_A * p - stiffness.K_A * anchor));
                 // slope() is p' and tension() is K_S·(p' − λ)
                 const double p_x = (bar1d::position(s, x + delta) - bar1d::position(s, x - delta)) / (2.0 * delta);
                 CHECK(std::abs(bar1d::slope(s, x) - p_x) < 1e-7);
@@ -138,6 +155,9 @@ TEST_SUITE("fracture") {
             else
                 CHECK(std::abs(bar1d::tension(s, l0)) < 1e-12);
         }
+        test::record_claim("7.3 1D analytic bar", "the continuous solution satisfies Eq. A.4 (4 boundary types)",
+                           "largest residual of −K_S·p'' + K_A·(p − a), p'' by central differences", residual,
+                           "< 1e-5");
     }
 
     TEST_CASE("bar1d: continuous maximum tension is the largest sampled tension for all four types") {
@@ -214,14 +234,23 @@ TEST_SUITE("fracture") {
             CHECK(left == doctest::Approx(right).epsilon(1e-9)); // mirror symmetry
             error.push_back(std::abs(analytic - left));
         }
+        double slowest = 1e300;
         for (std::size_t k = 1; k < error.size(); ++k) {
             CAPTURE(k);
             CHECK(error[k - 1] / error[k] > 3.5);
             CHECK(error[k - 1] / error[k] < 4.5);
             CHECK(profile_error[k - 1] / profile_error[k] > 3.0);
+            slowest = std::min(slowest, profile_error[k - 1] / profile_error[k]);
         }
         CHECK(error.back() < 1e-6);
         CHECK(profile_error.back() < 1e-5);
+        test::record_claim("A.4", "discrete matches continuous; the difference vanishes under refinement",
+                           "max |T_disc − T_cont| over a broken bar's half, 129 springs", profile_error.back(),
+                           "< 1e-5");
+        test::record_claim("A.4", "discrete matches continuous; the difference vanishes under refinement",
+                           "smallest ratio of max |T_disc − T_cont| per halving of h (17 → 129)", slowest, "> 3");
+        test::record_claim("A.4", "discrete matches continuous; the difference vanishes under refinement",
+                           "|T_max(disc) − T_max(cont)| of the half-bar, 129 springs", error.back(), "< 1e-6");
     }
 
     TEST_CASE("bar1d: first break of a free fragment is at its midpoint at the analytic break time") {
@@ -236,6 +265,10 @@ TEST_SUITE("fracture") {
                 CHECK(r.events[0].ratio == doctest::Approx(1.0).epsilon(1e-9));
                 CHECK(r.events[0].time > t_star); // the discrete peak is slightly lower
                 CHECK(r.events[0].time == doctest::Approx(t_star).epsilon(n > 100 ? 1e-5 : 1e-4));
+                test::record_claim("A.2", "first break time converges to the analytic t*",
+                                   "|t − t*| with " + std::to_string(n) + " springs (t* ≈ 0.0106)",
+                                   std::abs(r.events[0].time - t_star),
+                                   n > 100 ? "< 1e-5·(1 + t*)" : "< 1e-4·(1 + t*)");
             }
         }
         SUBCASE("even n breaks the lower of the two tied middle springs") {
@@ -310,6 +343,9 @@ TEST_SUITE("fracture") {
             CHECK(a.events[k].time == doctest::Approx(b.events[k].time).epsilon(1e-9));
         }
         CHECK((a.tensions - b.tensions).cwiseAbs().maxCoeff() < 1e-12);
+        test::record_claim("1D growth≡shrinkage", "growth and shrinkage with equal mismatch break alike (1D bar)",
+                           "largest tension difference at the end", (a.tensions - b.tensions).cwiseAbs().maxCoeff(),
+                           "< 1e-12 (and the same springs in the same order)");
         // ... and the first break still follows t* with g replaced by s.
         CHECK(b.events[0].time
               == doctest::Approx(bar1d::break_time_free(DIGEST_STIFFNESS, 1.0, 1.0, 0.01)).epsilon(1e-3));

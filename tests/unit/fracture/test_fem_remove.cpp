@@ -1,8 +1,10 @@
 #include "fracture/fem_remove.hpp"
+#include "support/accuracy.hpp"
 #include "support/fracture_fixture.hpp"
 
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <numeric>
 
 using namespace crackle;
@@ -27,7 +29,7 @@ double mean(const std::vector<double>& v) {
 
 TEST_SUITE("fracture") {
     TEST_CASE("fem-remove: isogonic growth gives an isotropic crack network") {
-        std::vector<double> a;
+        std::vector<double> a, psi6;
         for (std::uint64_t seed : {1u, 2u, 3u}) {
             LayerSpec s = base_spec(seed);
             s.growth = {sim::GrowthKind::Isogonic, 3e-4, 3e-4, 0};
@@ -37,8 +39,14 @@ TEST_SUITE("fracture") {
             CHECK(r.stats.anisotropy < 0.15);
             CHECK(r.stats.psi6 < 0.3); // no lattice alignment on a semi-random mesh
             a.push_back(r.stats.anisotropy);
+            psi6.push_back(r.stats.psi6);
         }
         CHECK(mean(a) < 0.08);
+        test::record_claim("5.27", "isogonic growth gives an isotropic network (fem-remove)",
+                           "anisotropy a, mean of 3 seeds", mean(a), "< 0.08 (each seed < 0.15)");
+        test::record_claim("5.27", "isogonic growth: no alignment with the mesh (fem-remove)",
+                           "lattice alignment psi6, largest of 3 seeds", *std::max_element(psi6.begin(), psi6.end()),
+                           "< 0.3");
     }
 
     TEST_CASE("fem-remove: growth along one axis gives cracks perpendicular to it (Fig. 5.27)") {
@@ -58,6 +66,12 @@ TEST_SUITE("fracture") {
             CHECK(mean(a) > 0.45);
             for (double d : along)
                 CHECK(d > 75.0);
+            const std::string growth = angle == 0.0 ? "growth along u" : "growth along v";
+            test::record_claim("5.27", "one-axis growth: an anisotropic network (fem-remove, " + growth + ")",
+                               "anisotropy a, mean of 2 seeds", mean(a), "> 0.45");
+            test::record_claim("5.27", "one-axis growth: cracks perpendicular to it (fem-remove, " + growth + ")",
+                               "angle between dominant crack direction and growth, smallest of 2 seeds [deg]",
+                               *std::min_element(along.begin(), along.end()), "> 75");
         }
     }
 
@@ -72,6 +86,8 @@ TEST_SUITE("fracture") {
             y.push_back(r.stats.y_junction_fraction);
         }
         CHECK(mean(t) > 1.5 * mean(y));
+        test::record_claim("5.28", "T-junctions outnumber Y-junctions (fem-remove)",
+                           "T-junction fraction / Y-junction fraction, means of 3 seeds", mean(t) / mean(y), "> 1.5");
     }
 
     TEST_CASE("fem-remove: a region of lowered threshold collects the cracks (Fig. 5.26)") {
@@ -100,6 +116,8 @@ TEST_SUITE("fracture") {
         }
         REQUIRE(total > 0);
         CHECK(left / total > 0.75); // the band is 40 % of the tile
+        test::record_claim("5.26", "cracks form only where the threshold is lowered (fem-remove)",
+                           "share of crack length inside the lowered band (40 % of the tile)", left / total, "> 0.75");
     }
 
     TEST_CASE("fem-remove: thicker layers crack less (Fig. 5.29)") {
@@ -115,6 +133,8 @@ TEST_SUITE("fracture") {
             thick.push_back(test::run_removal(s).stats.crack_length_per_area);
         }
         CHECK(mean(thin) > 1.4 * mean(thick));
+        test::record_claim("5.29", "more cracks where the layer is thin (fem-remove, 1 cm vs 3 cm)",
+                           "rho_c(1 cm) / rho_c(3 cm), means of 2 seeds", mean(thin) / mean(thick), "> 1.4");
     }
 
     TEST_CASE("fem-remove: growth by s and shrinkage by 1/s remove the same elements in the same order (digest 7.3)") {
@@ -138,13 +158,20 @@ TEST_SUITE("fracture") {
         REQUIRE(b.pattern.events.size() > 40);
         std::size_t same = 0;
         const std::size_t n = 40;
+        double worst = 0;
         for (std::size_t i = 0; i < n; ++i) {
             same += (a.pattern.events[i].position - b.pattern.events[i].position).norm() < 1e-12;
             // Same strain history: ε = r·t against s/(1 − s); the event times map accordingly.
             const double s_b = rate * b.pattern.events[i].time;
             CHECK(r * a.pattern.events[i].time == doctest::Approx(s_b / (1 - s_b)).epsilon(1e-4));
+            worst = std::max(worst, std::abs(r * a.pattern.events[i].time - s_b / (1 - s_b)) / (s_b / (1 - s_b)));
         }
         CHECK(same == n);
+        test::record_claim("7.3 growth≡shrinkage", "the same elements removed in the same order (fem-remove)",
+                           "share of the first 40 events at the same element", double(same) / double(n), "= 1");
+        test::record_claim("7.3 growth≡shrinkage", "event strains map r·t = s/(1 − s) (fem-remove)",
+                           "largest relative strain mismatch over 40 events", worst,
+                           "|Δε| < 1e-4·(1 + ε) with ε ≤ 3e-4: over 30 % relative");
     }
 
     TEST_CASE("fem-remove: events are in time order and a seed reproduces the run exactly") {
@@ -185,5 +212,11 @@ TEST_SUITE("fracture") {
         }
         CHECK(mean(adaptive_rho) == doctest::Approx(mean(uniform_rho)).epsilon(0.25));
         CHECK(mean(adaptive_elems) < 0.75 * mean(uniform_elems));
+        test::record_claim("5.16", "adaptive subdivision gives a result comparable to a uniform fine mesh (fem-remove)",
+                           "rho_c adaptive / rho_c uniform (1500), means of 2 seeds",
+                           mean(adaptive_rho) / mean(uniform_rho), "|Δρ_c| < 0.25·(1 + max ρ_c): about 25 %");
+        test::record_claim("5.16", "adaptive subdivision needs fewer elements (fem-remove; wall time not measured)",
+                           "elements adaptive / uniform, means of 2 seeds", mean(adaptive_elems) / mean(uniform_elems),
+                           "< 0.75");
     }
 }

@@ -135,6 +135,10 @@ TEST_SUITE("fracture") {
         CHECK(same == n);
         CHECK(worst_time < 1e-6);
         CHECK(rg.stats.crack_length_per_area == doctest::Approx(rs.stats.crack_length_per_area).epsilon(1e-9));
+        test::record_claim("4.5", "growth and shrinkage break the same springs in the same order (mass-spring)",
+                           "share of events at the same spring", double(same) / double(n), "= 1");
+        test::record_claim("4.5", "growth and shrinkage: break times map onto each other (mass-spring)",
+                           "largest break-time mismatch after remapping", worst_time, "< 1e-6");
     }
 
     TEST_CASE("mass-spring: on the regular lattice cracks follow the lattice (Fig. 4.5) and on the random one they "
@@ -154,9 +158,18 @@ TEST_SUITE("fracture") {
             if (regular) {
                 CHECK(r.stats.psi6 > 0.95);
                 CHECK(lacking < 0.02);
+                test::record_claim("4.5", "regular lattice: cracks at 60° (mass-spring)", "lattice alignment psi6",
+                                   r.stats.psi6, "> 0.95");
+                test::record_claim("4.5", "regular lattice: no cracks off the lattice directions (mass-spring)",
+                                   "share of crack length within 15° of 30°, 90°, 150°", lacking, "< 0.02");
             } else {
                 CHECK(r.stats.psi6 < 0.2);
                 CHECK(lacking > 0.3); // about half for uniformly spread directions
+                test::record_claim("4.8", "random lattice: no global directionality (mass-spring)",
+                                   "lattice alignment psi6", r.stats.psi6, "< 0.2");
+                test::record_claim("4.8", "random lattice: cracks in all directions (mass-spring)",
+                                   "share of crack length within 15° of 30°, 90°, 150° (uniform: 1/2)", lacking,
+                                   "> 0.3");
             }
         }
     }
@@ -173,10 +186,15 @@ TEST_SUITE("fracture") {
             CAPTURE(regular);
             CAPTURE(horizontal);
             REQUIRE(r.stats.crack_length_per_area > 3.0);
-            if (regular)
+            if (regular) {
                 CHECK(horizontal < 0.5);
-            else
+                test::record_claim("4.6", "vertical growth on the regular lattice: not mostly horizontal cracks",
+                                   "share of coarse crack directions within 15° of horizontal", horizontal, "< 0.5");
+            } else {
                 CHECK(horizontal > 0.8);
+                test::record_claim("4.6", "vertical growth on the random lattice: horizontal cracks",
+                                   "share of coarse crack directions within 15° of horizontal", horizontal, "> 0.8");
+            }
         }
     }
 
@@ -192,6 +210,8 @@ TEST_SUITE("fracture") {
         CAPTURE(fine);
         CHECK(coarse > 5.0);
         CHECK(fine > 1.2 * coarse);
+        test::record_claim("4.9", "the pattern depends on resolution (mass-spring, random lattice)",
+                           "rho_c(4000 masses) / rho_c(1000 masses)", fine / coarse, "> 1.2");
     }
 
     TEST_CASE("mass-spring: several layers give cracks of more than one depth (§4.3)") {
@@ -210,6 +230,8 @@ TEST_SUITE("fracture") {
         CHECK(depths.size() >= 2);
         CHECK(*depths.begin() >= 1);
         CHECK(*depths.rbegin() <= 3);
+        test::record_claim("4.7", "multi-layer: cracks of varying depth (mass-spring, 3 layers, on a plane)",
+                           "distinct crack depths [layers]", double(depths.size()), ">= 2, each in 1..3");
     }
 
     TEST_CASE("mass-spring: a relaxation that cannot converge throws with the iterations and the residual") {

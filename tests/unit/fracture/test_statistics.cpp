@@ -1,4 +1,5 @@
 #include "fracture/statistics.hpp"
+#include "support/accuracy.hpp"
 #include "support/mesh_fixtures.hpp"
 
 #include <doctest/doctest.h>
@@ -46,6 +47,11 @@ TEST_SUITE("fracture") {
         CHECK(st.anisotropy > 0.3);
         CHECK(std::abs(st.dominant_angle_deg - 90.0) < 10.0);
         CHECK(st.axial_fraction > 0.3);
+        test::record_claim("7.1", "crack density of two straight cracks across the unit tile (exact: 2 /m)",
+                           "rho_c of two zig-zag removal bands [1/m]", st.crack_length_per_area,
+                           "|ρ_c − 2| < 0.35·(1 + ρ_c)");
+        test::record_claim("7.1", "dominant direction of two cracks along v (exact: 90°)", "dominant angle [deg]",
+                           st.dominant_angle_deg, "90 ± 10");
     }
 
     TEST_CASE("statistics: a cross of cracks splits the torus into one fragment and has four-way meetings") {
@@ -55,6 +61,8 @@ TEST_SUITE("fracture") {
         CHECK(st.fragments == 1); // a torus cut once each way stays connected
         CHECK(st.anisotropy < 0.2);
         CHECK(st.psi6 < 0.5);
+        test::record_claim("7.1", "a cross of cracks has no anisotropy (exact: 0)", "anisotropy a", st.anisotropy,
+                           "< 0.2");
     }
 
     TEST_CASE("statistics: no cracks give one fragment and zero density") {

@@ -1,5 +1,6 @@
 #include "mesh/sampling.hpp"
 #include "mesh/triangulate.hpp"
+#include "support/accuracy.hpp"
 #include "support/mesh_fixtures.hpp"
 
 #include <doctest/doctest.h>
@@ -55,6 +56,7 @@ std::vector<Vec2> lattice_points(int cols, int rows, double a) {
 TEST_SUITE("mesh") {
     TEST_CASE("sampling: repelled points give far fewer thin triangles than uniform random points (Figs. 5.1-5.2)") {
         const mesh::Surface s = test::make_surface(SurfaceKind::Plane, 1.0, 1.0);
+        double repelled_thin = 0, random_thin = 1, repelled_min = 180;
         for (std::uint64_t seed : {1u, 2u, 3u}) {
             Rng rng(seed, RngStream::Sampling);
             mesh::SamplingOptions o;
@@ -66,7 +68,16 @@ TEST_SUITE("mesh") {
             CHECK(fraction_below_10deg(repelled) < 0.002);
             CHECK(fraction_below_10deg(random) > 0.03);
             CHECK(mesh::mesh_quality(repelled).min_angle_deg > 12.0);
+            repelled_thin = std::max(repelled_thin, fraction_below_10deg(repelled));
+            random_thin = std::min(random_thin, fraction_below_10deg(random));
+            repelled_min = std::min(repelled_min, mesh::mesh_quality(repelled).min_angle_deg);
         }
+        test::record_claim("5.1/5.2", "repelled points: few degenerate triangles",
+                           "share of triangles with min angle < 10°, largest of 3 seeds", repelled_thin, "< 0.002");
+        test::record_claim("5.1/5.2", "random points: degenerate triangles",
+                           "share of triangles with min angle < 10°, smallest of 3 seeds", random_thin, "> 0.03");
+        test::record_claim("5.1/5.2", "repelled points: few degenerate triangles",
+                           "smallest angle of any triangle [deg], 3 seeds", repelled_min, "> 12");
     }
 
     TEST_CASE("sampling: edge orientations are flat for repelled points but peak three times for a lattice") {
@@ -77,6 +88,8 @@ TEST_SUITE("mesh") {
         const auto repelled = mesh::triangulate_periodic(mesh::sample_periodic(s.period(), o, {}, rng), s);
         const auto h = edge_orientation_histogram(repelled);
         CHECK(peak_ratio(h) < 1.35);
+        test::record_claim("5.1/5.2", "repelled points: random edge orientation",
+                           "largest 10° bin of the edge-orientation histogram / mean bin", peak_ratio(h), "< 1.35");
 
         // A 40 × 46 triangular lattice on a torus sized to fit it exactly.
         const double a = 1.0 / 40;
@@ -84,6 +97,8 @@ TEST_SUITE("mesh") {
         const auto lattice = mesh::triangulate_periodic(lattice_points(40, 46, a), lat_s);
         const auto hl = edge_orientation_histogram(lattice);
         CHECK(peak_ratio(hl) > 5.0);
+        test::record_claim("5.1/5.2", "a lattice: three orientation peaks",
+                           "largest 10° bin of the edge-orientation histogram / mean bin", peak_ratio(hl), "> 5");
         // All of a lattice's edges fall in the bins at 0°, 60° and 120°.
         const double sum = std::accumulate(hl.begin(), hl.end(), 0.0);
         CHECK((hl[0] + hl[6] + hl[12] + hl[5] + hl[11] + hl[17]) / sum > 0.99);

@@ -1,5 +1,6 @@
 #include "fracture/fem_remove.hpp"
 #include "post/pieces.hpp"
+#include "support/accuracy.hpp"
 #include "support/fem_fixture.hpp"
 #include "support/mass_spring_fixture.hpp"
 
@@ -91,7 +92,7 @@ TEST_SUITE("post") {
         // Each wall quad: top a, top b, bottom b, bottom a. The top lip moves into its piece, away
         // from the bottom lip; the bottom lip does not move.
         const std::size_t first_wall_dry = dry.top_triangles, first_wall_wet = wet.top_triangles;
-        double opening = 0;
+        double opening = 0, bottom_moved = 0;
         for (std::size_t t = 0; t < dry.wall_triangles; t += 2) {
             const auto& td = dry.triangles[first_wall_dry + t];
             const auto& tw = wet.triangles[first_wall_wet + t];
@@ -100,11 +101,16 @@ TEST_SUITE("post") {
             const post::PieceVertex& bottom_b = dry.vertices[td[2]];
             const post::PieceVertex& bottom_b_wet = wet.vertices[tw[2]];
             REQUIRE((bottom_b.uv - bottom_b_wet.uv).norm() < 1e-12);
+            bottom_moved = std::max(bottom_moved, (bottom_b.uv - bottom_b_wet.uv).norm());
             REQUIRE(bottom_b.height == 0.0);
             REQUIRE(bottom_a.height == 0.0);
             opening += (top_a.uv - bottom_a.uv).norm();
         }
         CHECK(opening / (dry.wall_triangles / 2) * dry.tile_size.x() > 1e-4); // ≥ 0.1 mm on average
+        test::record_claim("4.10/4.11", "broken walls open at the top", "mean top-lip opening [m], 10 % top shrinkage",
+                           opening / double(dry.wall_triangles / 2) * dry.tile_size.x(), "> 1e-4");
+        test::record_claim("4.10/4.11", "glued walls stay closed at the bottom",
+                           "largest bottom-lip move [fraction of the tile]", bottom_moved, "< 1e-12");
     }
 
     TEST_CASE("pieces: in curl mode the rims of cracked pieces end higher than their centres (Fig. 4.11)") {
@@ -135,6 +141,9 @@ TEST_SUITE("post") {
         }
         REQUIRE(big > 3);
         CHECK(lifted == big);
+        test::record_claim("4.10/4.11", "curl mode lifts plate edges",
+                           "share of plates (≥ 12 triangles) with rim > centre + 5 mm", double(lifted) / double(big),
+                           "= 1");
         // Rim vertices (on walls' top edges) average higher than the plain layer.
         double rim = 0;
         int n = 0;
@@ -143,6 +152,8 @@ TEST_SUITE("post") {
             ++n;
         }
         CHECK(rim / n > 0.025 + 0.01);
+        test::record_claim("4.10/4.11", "curl mode lifts plate edges", "mean rim height [m], layer 0.025 m", rim / n,
+                           "> 0.035");
     }
 
     TEST_CASE("pieces: a bevel lowers the lips and leaves the interior") {

@@ -1,5 +1,6 @@
 #include "core/rng.hpp"
 #include "sim/growth_field.hpp"
+#include "support/accuracy.hpp"
 #include "support/finite_diff.hpp"
 
 #include <Eigen/Eigenvalues>
@@ -43,6 +44,7 @@ TEST_SUITE("sim") {
             {SurfaceKind::Plane, opts(GrowthKind::None, 1.0, 1.0, 0)},
         };
         Rng rng(1, RngStream::Test);
+        double worst = 0;
         for (const Case& c : cases) {
             const GrowthField field(c.options, c.surface);
             for (int i = 0; i < 5; ++i) {
@@ -51,14 +53,18 @@ TEST_SUITE("sim") {
                 const Mat3 J = test::finite_jacobian([&](const Vec3& p) { return field.velocity(p); }, x);
                 CAPTURE(c.options.angle_deg);
                 CHECK((J - field.tensor()).norm() < 1e-8);
+                worst = std::max(worst, (J - field.tensor()).norm());
             }
             // Symmetric: no vorticity, so small-strain elasticity suffices (digest §1.10 [D]).
             CHECK((field.tensor() - field.tensor().transpose()).norm() < 1e-15);
         }
+        test::record_claim("3.5/3.6", "the numerical Jacobian of v equals T_G (12 fields, 3 surfaces)",
+                           "largest ‖J_numerical − T_G‖", worst, "< 1e-8");
     }
 
     TEST_CASE("growth: the plane's tensor is the digest's T_G with α measured from Y (α = 90° − angle)") {
         const double r1 = 1.0, r2 = 0.2;
+        double worst = 0;
         for (double angle : {0.0, 30.0, 45.0, 90.0, 135.0}) {
             const GrowthField field(opts(GrowthKind::Anisotropic, r1, r2, angle), SurfaceKind::Plane);
             const double a = (90.0 - angle) * DEG_TO_RAD;
@@ -67,11 +73,15 @@ TEST_SUITE("sim") {
             T << r1 * s * s + r2 * c * c, (r1 - r2) * s * c, 0, (r1 - r2) * s * c, r1 * c * c + r2 * s * s, 0, 0, 0, 0;
             CAPTURE(angle);
             CHECK((field.tensor() - T).norm() < 1e-14);
+            worst = std::max(worst, (field.tensor() - T).norm());
         }
+        test::record_claim("3.5/3.6", "T_G is the digest's tensor with α measured from Y", "largest ‖T − T_G(α)‖",
+                           worst, "< 1e-14");
     }
 
     TEST_CASE(
         "growth: the unit circle maps to the predicted ellipse with semi-axes 1 + t·r1 and 1 + t·r2 (Figs. 3.5-3.6)") {
+        double worst = 0;
         for (double angle : {0.0, 30.0, 90.0}) {
             const double r1 = 1.0, r2 = 0.2, t = 0.7;
             const GrowthField field(opts(GrowthKind::Anisotropic, r1, r2, angle), SurfaceKind::Plane);
@@ -86,21 +96,31 @@ TEST_SUITE("sim") {
                 // On the ellipse (q·d1 / a)² + (q·d2 / b)² = 1 with a = 1 + t r1, b = 1 + t r2.
                 const double e = sqr(q.dot(d1) / (1 + t * r1)) + sqr(q.dot(d2) / (1 + t * r2));
                 REQUIRE(e == doctest::Approx(1.0).epsilon(1e-12));
+                worst = std::max(worst, std::abs(e - 1.0));
             }
         }
+        test::record_claim("3.5/3.6", "the unit circle maps to an ellipse with semi-axes 1 + t·r1, 1 + t·r2",
+                           "largest |(q·d1/a)² + (q·d2/b)² − 1| over 72 points, 3 angles", worst,
+                           "< 1e-12·(1 + e) ≈ 2e-12");
+        double iso_worst = 0;
         // Isogonic: circles stay circles of the same radius everywhere.
         const GrowthField iso(opts(GrowthKind::Isogonic, 0.5, 0.0, 0), SurfaceKind::Plane);
         for (const Vec3& centre : {Vec3(0, 0, 0), Vec3(5, -3, 0)}) {
             for (int k = 0; k < 12; ++k) {
                 const Vec3 dir(std::cos(k * 0.5), std::sin(k * 0.5), 0);
                 CHECK((iso.position(centre + dir, 2.0) - iso.position(centre, 2.0)).norm() == doctest::Approx(2.0));
+                iso_worst = std::max(
+                    iso_worst, std::abs((iso.position(centre + dir, 2.0) - iso.position(centre, 2.0)).norm() - 2.0));
             }
         }
+        test::record_claim("3.5/3.6", "isogonic growth keeps circles", "largest |radius − 2| of a grown unit circle",
+                           iso_worst, "< 1.2e-5·(1 + 2) (doctest Approx default)");
     }
 
     TEST_CASE("growth: on the trunk growth is circumferential only and a tangent circle becomes a (1 + rt):1 ellipse") {
         const double r = 0.8, t = 1.5, R = 0.3;
         const GrowthField field(opts(GrowthKind::Anisotropic, r, 0.0, 0), SurfaceKind::Cylinder);
+        double worst = 0;
         for (double alpha : {0.0, 1.0, 2.5}) {
             const Vec3 p(R * std::cos(alpha), R * std::sin(alpha), 0.4);
             const Vec3 e1(-std::sin(alpha), std::cos(alpha), 0); // around
@@ -112,22 +132,29 @@ TEST_SUITE("sim") {
             const Vec3 around = field.position(p + eps * e1, t) - field.position(p - eps * e1, t);
             const Vec3 along = field.position(p + eps * e2, t) - field.position(p - eps * e2, t);
             CHECK(around.norm() / along.norm() == doctest::Approx(1 + r * t).epsilon(1e-9));
+            worst = std::max(worst, std::abs(around.norm() / along.norm() - (1 + r * t)));
             // Points on the trunk stay on a (grown) trunk: the radius scales by 1 + rt.
             const Vec3 q = field.position(p, t);
             CHECK(std::hypot(q.x(), q.y()) == doctest::Approx(R * (1 + r * t)));
             CHECK(q.z() == doctest::Approx(p.z()));
         }
+        test::record_claim("3.7/3.8", "cylinder: a tangent circle becomes a (1 + rt):1 ellipse",
+                           "largest |axis ratio − (1 + rt)|, rt = 1.2", worst, "< 1e-9·(1 + 2.2)");
     }
 
     TEST_CASE("growth: the sphere grows isogonically and the anisotropic sphere stretches along z") {
         const GrowthField iso(opts(GrowthKind::Isogonic, 0.5, 0.0, 0), SurfaceKind::Sphere);
         Rng rng(3, RngStream::Test);
+        double worst = 0;
         for (int i = 0; i < 10; ++i) {
             const Vec3 n = Vec3(rng.normal(), rng.normal(), rng.normal()).normalized();
             Vec3 e = n.cross(Vec3(rng.normal(), rng.normal(), rng.normal())).normalized();
             CHECK(iso.rate_along(e) == doctest::Approx(0.5)); // every tangent direction alike
             CHECK((iso.tensor() * e - 0.5 * e).norm() < 1e-14);
+            worst = std::max(worst, (iso.tensor() * e - 0.5 * e).norm());
         }
+        test::record_claim("3.7/3.8", "sphere: isogonic, every tangent direction grows alike",
+                           "largest ‖T·e − r·e‖ over 10 random tangents e", worst, "< 1e-14");
         const GrowthField z4(opts(GrowthKind::Anisotropic, 1.0, 4.0, 0), SurfaceKind::Sphere);
         CHECK(z4.rate_along(Vec3::UnitZ()) == doctest::Approx(4.0));
         CHECK(z4.rate_along(Vec3::UnitX()) == doctest::Approx(1.0));
