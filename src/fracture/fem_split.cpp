@@ -597,15 +597,23 @@ Splitter::CutEnd Splitter::cut_towards(std::size_t v, const Vec3& direction, std
     const int kb = hit.edge, kc = (hit.edge + 1) % 3, kv = (hit.edge + 2) % 3;
     const std::size_t b = ix(m.faces[f].v[static_cast<std::size_t>(kb)]);
     const std::size_t c = ix(m.faces[f].v[static_cast<std::size_t>(kc)]);
+    // A point of a face's edge where a topology change puts it: on the surface, in the face's
+    // frame (on a curved surface the chord runs inside it by up to a sagitta, which next to a
+    // thin triangle can fold it).
+    const mesh::Surface& surface = m_model.surface();
+    auto on_surface = [&](FaceId g, int ka, int kb2, double t) -> Vec3 {
+        if (m.periodic) return surface.position((1 - t) * m.corner_domain(g, ka) + t * m.corner_domain(g, kb2));
+        return surface.project((1 - t) * m.corner_position(g, ka) + t * m.corner_position(g, kb2));
+    };
     // Would the split leave slivers? Check the four new triangles at t = 0.
     const Vec3 V = m.corner_position(f, kv), B = m.corner_position(f, kb), C = m.corner_position(f, kc);
-    const Vec3 P = (1 - hit.t) * B + hit.t * C;
+    const Vec3 P = on_surface(f, kb, kc, hit.t);
     double worst = std::min(min_angle(V, B, P), min_angle(V, P, C));
     const mesh::FaceNeighbor nb = m.neighbor(f, hit.edge);
     if (nb.face != mesh::NO_FACE) {
         const Vec3 W = m.corner_position(nb.face, (nb.edge + 2) % 3);
         const Vec3 Bn = m.corner_position(nb.face, (nb.edge + 1) % 3), Cn = m.corner_position(nb.face, nb.edge);
-        const Vec3 Pn = (1 - hit.t) * Bn + hit.t * Cn;
+        const Vec3 Pn = on_surface(nb.face, (nb.edge + 1) % 3, nb.edge, hit.t);
         worst = std::min({worst, min_angle(W, Bn, Pn), min_angle(W, Pn, Cn)});
     }
     const bool near_vertex = hit.t < m_split.snap_fraction || hit.t > 1 - m_split.snap_fraction;
@@ -623,17 +631,25 @@ Splitter::CutEnd Splitter::cut_towards(std::size_t v, const Vec3& direction, std
     if (!on_border(m_model, x)) {
         Vec3 top, rate;
         const mesh::NewVertex target = m_model.edge_point(f, hit.edge, hit.t, &top, &rate);
-        const Vec3 step = P - (to_b ? B : C);
+        // Where x lands, seen from each of its faces (move_vertex moves it by the same step in
+        // every face's frame): each face must stay well shaped and facing out of the surface.
+        Vec2 step = Vec2::Zero();
+        if (m.periodic) {
+            step = target.domain - m.domain[vertex_id(x)];
+            for (int i = 0; i < 2; ++i)
+                step[i] -= m.period[i] * std::round(step[i] / m.period[i]);
+        }
         bool fine = true;
         for (std::uint32_t g : m_model.incident_faces(x)) {
             const int kx = corner_of(m, g, x);
             std::array<Vec3, 3> q;
             for (int k = 0; k < 3; ++k)
                 q[static_cast<std::size_t>(k)] = m.corner_position(face_id(g), k);
-            const Vec3 n_before = (q[1] - q[0]).cross(q[2] - q[0]);
-            q[static_cast<std::size_t>(kx)] += step;
+            q[static_cast<std::size_t>(kx)] =
+                m.periodic ? surface.position(m.corner_domain(face_id(g), kx) + step) : target.position;
             const Vec3 n_after = (q[1] - q[0]).cross(q[2] - q[0]);
-            if (n_after.dot(n_before) <= 0 || min_angle(q[0], q[1], q[2]) < 0.5 * m_split.min_angle_deg) {
+            const Vec3 outward = surface.frame(Vec3((q[0] + q[1] + q[2]) / 3.0)).n;
+            if (n_after.normalized().dot(outward) < 0.5 || min_angle(q[0], q[1], q[2]) < 0.5 * m_split.min_angle_deg) {
                 fine = false;
                 break;
             }

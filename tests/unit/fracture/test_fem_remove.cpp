@@ -163,15 +163,14 @@ TEST_SUITE("fracture") {
             same += (a.pattern.events[i].position - b.pattern.events[i].position).norm() < 1e-12;
             // Same strain history: ε = r·t against s/(1 − s); the event times map accordingly.
             const double s_b = rate * b.pattern.events[i].time;
-            CHECK(r * a.pattern.events[i].time == doctest::Approx(s_b / (1 - s_b)).epsilon(1e-4));
             worst = std::max(worst, std::abs(r * a.pattern.events[i].time - s_b / (1 - s_b)) / (s_b / (1 - s_b)));
         }
+        CHECK(worst < 1e-3); // relative: the time search's tolerance and CG's
         CHECK(same == n);
         test::record_claim("7.3 growth≡shrinkage", "the same elements removed in the same order (fem-remove)",
                            "share of the first 40 events at the same element", double(same) / double(n), "= 1");
         test::record_claim("7.3 growth≡shrinkage", "event strains map r·t = s/(1 − s) (fem-remove)",
-                           "largest relative strain mismatch over 40 events", worst,
-                           "|Δε| < 1e-4·(1 + ε) with ε ≤ 3e-4: over 30 % relative");
+                           "largest relative strain mismatch over 40 events", worst, "< 1e-3");
     }
 
     TEST_CASE("fem-remove: events are in time order and a seed reproduces the run exactly") {
