@@ -248,6 +248,12 @@ TEST_SUITE("fracture") {
             CHECK(sides[3] == -1);
             CHECK(r.run.splits > 0);
             CHECK(r.run.extensions > r.run.splits); // cracks run on from their start
+            int alternations = 0;
+            for (std::size_t i = 1; i < sides.size(); ++i)
+                alternations += sides[i] != sides[i - 1];
+            test::record_claim("5.20", "tips of a new crack extend first in first out, the two ends in turn",
+                               "side changes among the first 4 extensions (seed " + std::to_string(seed) + ")",
+                               alternations, "= 3");
         }
     }
 
@@ -366,6 +372,11 @@ TEST_SUITE("fracture") {
             // a flip only raises the worst angle of its two faces.
             CAPTURE(initial);
             CHECK(r.stats.min_angle_deg >= std::min(initial, 0.5 * split.min_angle_deg) - 1e-9);
+            test::record_claim("5.22/5.23",
+                               std::string("edge collapse and flips leave no sliver (")
+                                   + (smoothing != 0.0 ? "with" : "without") + " §5.7.9 smoothing)",
+                               "worst triangle angle after the run (deg; initial mesh " + std::to_string(initial) + ")",
+                               r.stats.min_angle_deg, ">= min(initial, 6)");
         }
     }
 
@@ -398,6 +409,10 @@ TEST_SUITE("fracture") {
         }
         CHECK(mean(t) > 2 * mean(y));
         CHECK(mean(a) < 0.1);
+        test::record_claim("5.28", "mud: T-junctions outnumber Y-junctions (fem-split, 3 seeds)",
+                           "T-junction fraction / Y-junction fraction", mean(t) / std::max(mean(y), 1e-9), "> 2");
+        test::record_claim("5.27", "isogonic growth gives an isotropic network (fem-split, 3 seeds)", "mean anisotropy",
+                           mean(a), "< 0.1");
     }
 
     TEST_CASE(
@@ -419,6 +434,8 @@ TEST_SUITE("fracture") {
         CAPTURE(area_ratio);
         CHECK(length_ratio > 0.85);
         CHECK(length_ratio < 1.15);
+        test::record_claim("4.9", "fem-split: crack density independent of resolution (600 vs 2400 elements)",
+                           "ρ_c(2400) / ρ_c(600)", length_ratio, "in [0.85, 1.15]");
         CHECK(area_ratio > 0.7);
         CHECK(area_ratio < 1.4);
     }
@@ -444,9 +461,14 @@ TEST_SUITE("fracture") {
             grew += snaps[i].crack_length > snaps[i - 1].crack_length;
         }
         CHECK(grew > 3); // a sequence, not one burst
+        test::record_claim("5.30", "crack length and fragments grow monotonically through one run",
+                           "time steps at which the crack length grew (none shrank)", grew, "> 3");
         CHECK(r.stats.fragments > 5);
         // Hierarchical: cracks that start later meet the earlier ones at right angles.
         CHECK(r.stats.t_junction_fraction > 2 * r.stats.y_junction_fraction);
+        test::record_claim("5.30", "later cracks end on earlier ones",
+                           "T-junction fraction (Y: " + std::to_string(r.stats.y_junction_fraction) + ")",
+                           r.stats.t_junction_fraction, "> 2 × Y");
         for (std::size_t i = 1; i < r.pattern.events.size(); ++i)
             CHECK(r.pattern.events[i].time >= r.pattern.events[i - 1].time);
         const auto b = test::run_split(s);
