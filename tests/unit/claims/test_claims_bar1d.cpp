@@ -73,7 +73,7 @@ Generations generations(const bar1d::SimulationOptions& o, const bar1d::Simulati
 } // namespace
 
 TEST_SUITE("claims") {
-    TEST_CASE("claims A.3: fragments split at their midpoints; break times grow by 4 per generation once fragments "
+    TEST_CASE("claims A.3: fragments split at their midpoints, break times grow by 4 per generation once fragments "
               "are shorter than the decay length") {
         // A free fragment of length l breaks at its midpoint at t* = T_b / (K_S·g·(1 − sech(r·l/2)))
         // (digest §2.6.2). For r·l ≪ 1, t* ∝ 1/l², so halving the fragments multiplies the

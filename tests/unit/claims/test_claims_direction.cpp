@@ -120,7 +120,7 @@ struct Cuts {
 } // namespace
 
 TEST_SUITE("claims") {
-    TEST_CASE("claims 5.22, 5.23: cracks run along the computed principal direction; only snapped cuts turn") {
+    TEST_CASE("claims 5.22, 5.23: cracks run along the computed principal direction, only snapped cuts turn") {
         // A drying layer (anisotropic shrinkage, Young's modulus perturbed by ±30 % noise, so the
         // principal directions vary) is cracked one event at a time. Before each event the
         // state is reconstructed (the model at the event's time, relaxed) and the in-surface

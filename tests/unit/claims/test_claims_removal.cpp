@@ -14,7 +14,7 @@ using namespace crackle;
 using test::LayerSpec;
 
 TEST_SUITE("claims") {
-    TEST_CASE("claims 5.10, 5.11: removed cracks are about one element wide; crack density keeps rising with "
+    TEST_CASE("claims 5.10, 5.11: removed cracks are about one element wide, crack density keeps rising with "
               "refinement") {
         // A drying mud layer (1 cm, shrinkage to twice the threshold strain) on a 0.15 m tile at
         // 225, 450 and 900 elements (mean edges 1.6, 1.1 and 0.8 cm), three seeds each.

@@ -137,7 +137,7 @@ TEST_SUITE("claims") {
         CHECK(st.orientation_spread_deg == doctest::Approx(30.0).epsilon(0.05));
     }
 
-    TEST_CASE("crack path statistics: chains end at junctions and tips; loops that do not wrap and short chains are "
+    TEST_CASE("crack path statistics: chains end at junctions and tips, loops that do not wrap and short chains are "
               "skipped") {
         LatticePattern lp;
         const std::size_t start = lp.nearest(Vec2(0.3, 0.5));

@@ -441,7 +441,7 @@ TEST_SUITE("fracture") {
     }
 
     TEST_CASE("fem-split: crack length and fragments grow monotonically through one run, later cracks end on earlier "
-              "ones; the run is reproducible (Fig. 5.30)") {
+              "ones, the run is reproducible (Fig. 5.30)") {
         LayerSpec s = base_spec(5);
         s.shrinkage = {3e-4, 3e-4};
         // Snapshots of one run, at every time step.
