@@ -14,7 +14,7 @@ struct LayerSpec {
     std::size_t elements = 300;
     double young = 1e9, poisson = 0.3, threshold = 1e5, toughness = 100, thickness = 0.01;
     double thickness_end = -1; ///< < 0: uniform; else thickness runs linearly along v to this
-    sim::VariationOptions thickness_variation;
+    sim::VariationOptions thickness_variation, threshold_variation;
     sim::GrowthOptions growth = {sim::GrowthKind::None, 0.0, 0.0, 0.0};
     sim::ShrinkageOptions shrinkage;
     sim::VariationOptions young_variation;
@@ -28,7 +28,7 @@ struct Layer {
           thickness(s.thickness, s.thickness_end < 0 ? s.thickness : s.thickness_end, s.thickness_variation, surface,
                     s.seed, 1),
           young(s.young, s.young_variation, surface, s.seed, 2),
-          threshold(s.threshold, sim::VariationOptions{}, surface, s.seed, 3),
+          threshold(s.threshold, s.threshold_variation, surface, s.seed, 3),
           toughness(s.toughness, sim::VariationOptions{}, surface, s.seed, 4) {
         sim::LayerFields fields{&thickness, &young, &threshold, &toughness, s.poisson};
         model = std::make_unique<sim::FemModel>(make_mesh(surface, s.elements, s.seed), surface,

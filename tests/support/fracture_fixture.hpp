@@ -17,14 +17,8 @@ struct FractureRun {
 inline FractureRun run_removal(const LayerSpec& spec, double duration = 1.0, double min_element_size = 0.0,
                                const sim::VariationOptions* threshold_variation = nullptr) {
     LayerSpec s = spec;
+    if (threshold_variation) s.threshold_variation = *threshold_variation;
     Layer layer(s);
-    if (threshold_variation) {
-        // Rebuild with a varying threshold field.
-        layer.threshold = sim::PropertyField(s.threshold, *threshold_variation, layer.surface, s.seed, 3);
-        sim::LayerFields fields{&layer.thickness, &layer.young, &layer.threshold, &layer.toughness, s.poisson};
-        layer.model = std::make_unique<sim::FemModel>(make_mesh(layer.surface, s.elements, s.seed), layer.surface,
-                                                      sim::GrowthField(s.growth, s.kind), s.shrinkage, fields, s.fem);
-    }
     fracture::FractureOptions o;
     o.duration = duration;
     o.min_element_size = min_element_size;
@@ -35,12 +29,13 @@ inline FractureRun run_removal(const LayerSpec& spec, double duration = 1.0, dou
     return r;
 }
 
-/// A fem-split run on the layer; invariants are checked after every topology change.
+/// A fem-split run on the layer; invariants are checked after every topology change unless
+/// `check_invariants` is false (O(mesh) per event: slow on big runs).
 inline FractureRun run_split(const LayerSpec& spec, double duration = 1.0, fracture::SplitOptions split = {},
-                             fracture::FractureOptions options = {}) {
+                             fracture::FractureOptions options = {}, bool check_invariants = true) {
     Layer layer(spec);
     options.duration = duration;
-    split.check_invariants = true;
+    split.check_invariants = check_invariants;
     Rng rng(spec.seed, RngStream::Fracture);
     FractureRun r;
     r.pattern = fracture::run_fem_split(*layer.model, options, split, rng, &r.run);
