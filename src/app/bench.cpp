@@ -107,16 +107,15 @@ Json bench_fem_remove(const std::vector<std::size_t>& sizes, std::ostream& out) 
         << "|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
     Json rows = Json::array();
     for (std::size_t n : sizes) {
-        const io::Preset preset = mud_preset(n);
-        const auto scene = make_scene(preset);
-        mesh::SurfaceMesh surface_mesh = discretize_scene(*scene, nullptr);
-        const std::size_t elements = surface_mesh.num_faces();
-        sim::FemModel model(std::move(surface_mesh), scene->surface, scene->growth, scene->shrinkage,
-                            layer_fields(*scene), fem_options(preset));
-        Rng rng(scene->seed, RngStream::Fracture);
-        fracture::RunStats run;
-        const fracture::CrackPattern pattern = fracture::run_fem_remove(model, fracture_options(preset), rng, &run);
-        const auto st = fracture::pattern_statistics(pattern);
+        io::PresetRequest request;
+        request.name_or_path = "mud";
+        request.overrides = {"simulation.elements=" + std::to_string(n), "simulation.method=fem-remove"};
+        StepTimes ignored;
+        const SimulationResult r = run_simulation(io::load_preset(request), ignored);
+        const std::size_t elements = r.elements_initial;
+        const fracture::RunStats& run = r.run;
+        const fracture::CrackPattern& pattern = r.pattern;
+        const auto& st = r.statistics;
         const double book = run.topology_seconds;
         const double events = static_cast<double>(pattern.events.size());
         Json row = Json::object();
@@ -169,8 +168,9 @@ Json bench_mass_spring(const std::vector<std::size_t>& masses, std::size_t max_b
         row["final_time"] = ms.pattern.final_time;
         row["seconds"] = ms.run.total_seconds;
         row["breaks_per_second"] = ms_breaks / ms.run.total_seconds;
-        row["newton_iterations"] = ms.newton_iterations;
-        row["factorizations"] = ms.factorizations;
+        const double newton = ms.details.find("newton_iterations")->as_number();
+        row["newton_iterations"] = newton;
+        row["factorizations"] = ms.details.find("factorizations")->as_number();
         row["crack_length_per_area"] = ms.statistics.crack_length_per_area;
         row["fem_remove_elements"] = fr.elements_initial;
         row["fem_remove_events"] = fr.pattern.events.size();
@@ -178,9 +178,8 @@ Json bench_mass_spring(const std::vector<std::size_t>& masses, std::size_t max_b
         row["fem_remove_crack_length_per_area"] = fr.statistics.crack_length_per_area;
         out << "| " << n << " | " << ms.pattern.events.size() << (ms.pattern.events_capped ? " (cap)" : "") << " | "
             << fmt("%.2f", ms.pattern.final_time) << " | " << fmt("%.1f s", ms.run.total_seconds) << " | "
-            << fmt("%.0f", ms_breaks / ms.run.total_seconds) << " | "
-            << fmt("%.1f", static_cast<double>(ms.newton_iterations) / std::max(ms_breaks, 1.0)) << " | "
-            << fmt("%.1f", ms.statistics.crack_length_per_area) << " | " << fr.elements_initial << " | "
+            << fmt("%.0f", ms_breaks / ms.run.total_seconds) << " | " << fmt("%.1f", newton / std::max(ms_breaks, 1.0))
+            << " | " << fmt("%.1f", ms.statistics.crack_length_per_area) << " | " << fr.elements_initial << " | "
             << fr.pattern.events.size() << " | " << fmt("%.1f s", fr.run.total_seconds) << " | "
             << fmt("%.0f", fr_events / fr.run.total_seconds) << " | "
             << fmt("%.1f", fr.statistics.crack_length_per_area) << " |\n";
@@ -261,19 +260,20 @@ Json bench_fem_split(bool quick, std::ostream& out) {
         row["preset"] = name;
         row["elements_initial"] = r.elements_initial;
         row["elements_final"] = r.elements_final;
-        row["splits"] = r.run.splits;
-        row["tip_extensions"] = r.run.extensions;
-        row["arrests"] = r.run.arrests;
+        const auto count = [&](const char* key) { return static_cast<long long>(r.details.find(key)->as_number()); };
+        row["splits"] = count("splits");
+        row["tip_extensions"] = count("tip_extensions");
+        row["arrests"] = count("tip_arrests");
         row["seconds"] = r.run.total_seconds;
         row["solve_seconds"] = r.run.solve_seconds;
         row["stress_seconds"] = r.run.stress_seconds;
         row["topology_seconds"] = r.run.topology_seconds;
         row["fragments"] = r.statistics.fragments;
-        out << "| " << name << " | " << r.elements_initial << " → " << r.elements_final << " | " << r.run.splits
-            << " | " << r.run.extensions << " | " << r.run.arrests << " | " << fmt("%.1f s", r.run.total_seconds)
-            << " | " << share(r.run.solve_seconds) << " | " << share(r.run.stress_seconds) << " | "
-            << share(r.run.topology_seconds) << " | " << r.statistics.fragments << " | "
-            << fmt("%.1f", r.statistics.crack_length_per_area) << " |\n";
+        out << "| " << name << " | " << r.elements_initial << " → " << r.elements_final << " | " << count("splits")
+            << " | " << count("tip_extensions") << " | " << count("tip_arrests") << " | "
+            << fmt("%.1f s", r.run.total_seconds) << " | " << share(r.run.solve_seconds) << " | "
+            << share(r.run.stress_seconds) << " | " << share(r.run.topology_seconds) << " | " << r.statistics.fragments
+            << " | " << fmt("%.1f", r.statistics.crack_length_per_area) << " |\n";
         out.flush();
         full.push_back(row);
     }

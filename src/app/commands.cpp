@@ -181,19 +181,9 @@ Json simulation_report(const io::Preset& preset, const SimulationResult& r, cons
     // Beyond the fixed fields: details for researchers.
     report["final_time"] = r.pattern.final_time;
     report["events_capped"] = r.pattern.events_capped;
-    report["removals"] = r.run.removals;
-    report["subdivisions"] = r.run.subdivisions;
-    if (r.pattern.method == "fem-split") {
-        report["splits"] = r.run.splits;
-        report["tip_extensions"] = r.run.extensions;
-        report["tip_arrests"] = r.run.arrests;
-        report["edge_collapses"] = r.run.collapses;
-        report["snapped_cuts"] = r.run.snaps;
-        report["smoothing_moves"] = r.run.smoothed;
-        report["von_mises_refinements"] = r.run.vm_refinements;
-        report["tip_submodels"] = r.run.submodels;
-        report["edge_flips"] = r.run.flips;
-    }
+    // The method's own counters (fracture::MethodResult::details), then the common ones.
+    for (const auto& [key, value] : r.details.members())
+        report[key] = value;
     report["time_steps"] = r.run.time_steps;
     report["solves"] = r.run.solves;
     report["solver_iterations"] = r.run.solver_iterations;
@@ -207,20 +197,6 @@ Json simulation_report(const io::Preset& preset, const SimulationResult& r, cons
     report["junctions"] = st.junctions;
     report["axial_fraction"] = st.axial_fraction;
     report["total_area"] = st.total_area;
-    if (r.pattern.method == "mass-spring") {
-        report["newton_iterations"] = r.newton_iterations;
-        report["anchor_slides"] = r.anchor_slides;
-        report["factorizations"] = r.factorizations;
-        report["breaks"] = r.run.removals;
-        // Crack-depth histogram in layers (multi-layer model, §4.3).
-        Json depths = Json::object();
-        std::map<long, long> hist;
-        for (int layers : r.crack_depth_layers)
-            ++hist[layers];
-        for (const auto& [layers, count] : hist)
-            depths[std::to_string(layers)] = count;
-        report["crack_depth_histogram"] = depths;
-    }
     return report;
 }
 
@@ -233,18 +209,7 @@ void print_times(std::ostream& out, const StepTimes& times) {
 
 void print_simulation(std::ostream& out, const io::Preset& preset, const SimulationResult& r) {
     const auto& st = r.statistics;
-    if (r.pattern.method == "mass-spring")
-        out << "  springs      " << r.elements_initial << " material springs on " << r.nodes << " masses, "
-            << r.run.removals << " broken; " << r.newton_iterations << " Newton iterations, " << r.factorizations
-            << " factorizations\n";
-    else if (r.pattern.method == "fem-split")
-        out << "  elements     " << r.elements_initial << " initial, " << r.elements_final << " at the end; "
-            << r.run.splits << " new cracks, " << r.run.extensions << " tip extensions, " << r.run.arrests
-            << " arrests (Griffith); " << r.run.collapses << " edge collapses, " << r.run.snaps << " snapped cuts, "
-            << r.run.flips << " flips, " << r.run.smoothed << " smoothing moves\n";
-    else
-        out << "  elements     " << r.elements_initial << " initial, " << r.elements_final << " intact at the end ("
-            << r.run.removals << " removed, " << r.run.subdivisions << " subdivisions)\n";
+    out << "  " << r.summary << "\n";
     out << "  time         " << fmt("%.4g", r.pattern.final_time) << " of "
         << fmt("%.4g", preset.number("simulation.duration"))
         << (r.pattern.events_capped ? " (stopped at simulation.max_events)" : "") << "; " << r.run.time_steps

@@ -1,55 +1,9 @@
 #include "app/scene.hpp"
 
 #include "core/error.hpp"
-#include "io/png.hpp"
+#include "fracture/method.hpp"
 
 namespace crackle::app {
-
-mesh::SurfaceOptions surface_options(const io::Preset& preset) {
-    mesh::SurfaceOptions o;
-    const std::string kind = preset.text("surface.kind");
-    o.kind = kind == "plane"    ? mesh::SurfaceKind::Plane
-             : kind == "sphere" ? mesh::SurfaceKind::Sphere
-                                : mesh::SurfaceKind::Cylinder;
-    const auto& size = preset.numbers("surface.size");
-    o.size = Vec2(size[0], size.size() > 1 ? size[1] : size[0]);
-    return o;
-}
-
-sim::GrowthOptions growth_options(const io::Preset& preset) {
-    sim::GrowthOptions o;
-    const std::string kind = preset.text("growth.kind");
-    o.kind = kind == "none"       ? sim::GrowthKind::None
-             : kind == "isogonic" ? sim::GrowthKind::Isogonic
-                                  : sim::GrowthKind::Anisotropic;
-    const auto& rate = preset.numbers("growth.rate");
-    o.r1 = rate[0];
-    o.r2 = rate[1];
-    o.angle_deg = preset.number("growth.angle_deg");
-    return o;
-}
-
-sim::VariationOptions variation_options(const io::Preset& preset, const std::string& property) {
-    const std::string sec = "variation." + property + ".";
-    sim::VariationOptions o;
-    const std::string pattern = preset.text(sec + "pattern");
-    o.pattern = pattern == "gradient" ? sim::PatternKind::Gradient
-                : pattern == "noise"  ? sim::PatternKind::Noise
-                : pattern == "image"  ? sim::PatternKind::Image
-                                      : sim::PatternKind::None;
-    o.amplitude = preset.number(sec + "amplitude");
-    o.scale = preset.number(sec + "scale");
-    o.octaves = static_cast<int>(preset.integer(sec + "octaves"));
-    o.angle_deg = preset.number(sec + "angle_deg");
-    if (o.pattern == sim::PatternKind::Image) {
-        try {
-            o.image = std::make_shared<GrayImage>(io::read_png_gray(preset.path(sec + "image")));
-        } catch (const InputError& e) {
-            throw InputError(preset.entry(sec + "image").source.text() + ": " + e.what());
-        }
-    }
-    return o;
-}
 
 std::unique_ptr<Scene> make_scene(const io::Preset& preset) {
     const mesh::Surface surface(surface_options(preset));
@@ -101,35 +55,22 @@ mesh::SurfaceMesh discretize_scene(const Scene& scene, StepTimes* times) {
     return mesh::discretize(scene.surface, scene.discretize, spacing, rng, times);
 }
 
-sim::FemOptions fem_options(const io::Preset& preset) {
-    sim::FemOptions o;
-    o.solver = preset.text("simulation.solver") == "direct" ? sim::SolverKind::Direct : sim::SolverKind::Cg;
-    o.tolerance = preset.number("simulation.solver_tolerance");
-    o.max_iterations = static_cast<int>(preset.integer("simulation.solver_max_iterations"));
-    return o;
-}
-
-fracture::FractureOptions fracture_options(const io::Preset& preset) {
-    fracture::FractureOptions o;
-    o.duration = preset.number("simulation.duration");
-    o.min_element_size = preset.number("simulation.min_element_size");
-    o.max_events = static_cast<std::size_t>(preset.integer("simulation.max_events"));
-    o.local_relaxation = preset.text("simulation.relaxation") == "local";
-    o.local_tolerance = preset.number("simulation.local_tolerance");
-    o.drift_tolerance = preset.number("simulation.drift_tolerance");
-    return o;
-}
-
 sim::LayerFields layer_fields(const Scene& scene) {
     return {&scene.thickness, &scene.young_modulus, &scene.threshold_stress, &scene.toughness, scene.poisson_ratio};
 }
 
 void require_available_method(const io::Preset& preset) {
-    const std::string method = preset.text("simulation.method");
-    if (method == "fem-remove" || method == "fem-split" || method == "mass-spring") return;
+    const std::string& method = preset.text("simulation.method");
+    const fracture::MethodInfo* info = fracture::find_method(method);
+    if (info && info->available) return;
+    std::vector<std::string> names;
+    for (const fracture::MethodInfo& m : fracture::methods())
+        if (m.available) names.push_back("\"" + m.name + "\"");
+    std::string available;
+    for (std::size_t i = 0; i < names.size(); ++i)
+        available += (i == 0 ? "" : i + 1 == names.size() ? " or " : ", ") + names[i];
     throw InputError(preset.entry("simulation.method").source.text(),
-                     "simulation.method = \"" + method + "\" is not available in this version",
-                     "use \"fem-split\", \"fem-remove\" or \"mass-spring\"");
+                     "simulation.method = \"" + method + "\" is not available in this version", "use " + available);
 }
 
 } // namespace crackle::app

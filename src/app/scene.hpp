@@ -2,7 +2,7 @@
 /// @file A preset turned into the pipeline's typed inputs: the surface, its growth field,
 /// material shrinkage and property fields, and the discretization options.
 
-#include "fracture/fem_remove.hpp"
+#include "app/options.hpp"
 #include "io/preset.hpp"
 #include "mesh/discretize.hpp"
 #include "mesh/surface.hpp"
@@ -29,25 +29,17 @@ struct Scene {
     std::uint64_t seed = 1;
 };
 
-mesh::SurfaceOptions surface_options(const io::Preset& preset);
-sim::GrowthOptions growth_options(const io::Preset& preset);
-/// Reads [variation.<property>]; loads the image of an image pattern.
-sim::VariationOptions variation_options(const io::Preset& preset, const std::string& property);
-
 /// Builds every typed input; throws InputError (e.g. an unreadable image).
 std::unique_ptr<Scene> make_scene(const io::Preset& preset);
 
 /// Discretizes the scene's surface (§5.2), density following thickness when asked.
 mesh::SurfaceMesh discretize_scene(const Scene& scene, StepTimes* times);
 
-/// [simulation] keys of the equilibrium solver.
-sim::FemOptions fem_options(const io::Preset& preset);
-/// [simulation] keys of the fracture loop.
-fracture::FractureOptions fracture_options(const io::Preset& preset);
 /// The scene's layer fields for the FEM model (pointers into `scene`).
 sim::LayerFields layer_fields(const Scene& scene);
 
-/// Throws InputError (naming the preset line) when simulation.method is not available.
+/// Throws InputError (naming the preset line) when simulation.method is not available
+/// (fracture::methods() lists which are).
 void require_available_method(const io::Preset& preset);
 
 } // namespace crackle::app

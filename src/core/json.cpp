@@ -28,6 +28,12 @@ void Json::push_back(Json v) {
     std::get<Array>(m_value).push_back(std::move(v));
 }
 
+const Json::Object& Json::members() const {
+    static const Object none;
+    const Object* o = std::get_if<Object>(&m_value);
+    return o ? *o : none;
+}
+
 double Json::as_number() const {
     if (const auto* d = std::get_if<double>(&m_value)) return *d;
     if (const auto* i = std::get_if<std::int64_t>(&m_value)) return static_cast<double>(*i);

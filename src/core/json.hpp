@@ -41,6 +41,8 @@ public:
     void push_back(Json v);
 
     bool is_object() const { return std::holds_alternative<Object>(m_value); }
+    /// The members of an object, in order (an empty list for anything else).
+    const Object& members() const;
     double as_number() const;
 
     /// Pretty-printed with two-space indentation and a trailing newline at top level.

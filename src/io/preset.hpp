@@ -26,15 +26,15 @@ struct PresetValue {
     std::filesystem::path base_dir; ///< folder that relative paths (images) resolve against
 };
 
-class Preset {
+class Preset : public Settings {
 public:
     std::string name; ///< as requested: "bark", "my/preset.toml"
 
-    double number(const std::string& key) const;
-    std::int64_t integer(const std::string& key) const;
-    bool flag(const std::string& key) const;
-    const std::string& text(const std::string& key) const;
-    const std::vector<double>& numbers(const std::string& key) const;
+    double number(const std::string& key) const override;
+    std::int64_t integer(const std::string& key) const override;
+    bool flag(const std::string& key) const override;
+    const std::string& text(const std::string& key) const override;
+    const std::vector<double>& numbers(const std::string& key) const override;
     const PresetValue& entry(const std::string& key) const;
     /// A path-valued key resolved against the folder of the preset that set it.
     std::filesystem::path path(const std::string& key) const;

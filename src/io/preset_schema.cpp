@@ -1,5 +1,7 @@
 #include "io/preset_schema.hpp"
 
+#include "fracture/method.hpp"
+
 #include <cmath>
 #include <cstdio>
 #include <sstream>
@@ -7,71 +9,12 @@
 namespace crackle::io {
 namespace {
 
-KeySpec number(std::string section, std::string key, double def, std::string unit, double lo, double hi,
-               std::string description, bool lo_excl = false, bool hi_excl = false) {
-    KeySpec s;
-    s.section = std::move(section);
-    s.key = std::move(key);
-    s.type = ValueType::Float;
-    s.default_value = def;
-    s.unit = std::move(unit);
-    s.min = lo;
-    s.max = hi;
-    s.min_exclusive = lo_excl;
-    s.max_exclusive = hi_excl;
-    s.description = std::move(description);
-    return s;
-}
-
-KeySpec integer(std::string section, std::string key, std::int64_t def, std::string unit, double lo, double hi,
-                std::string description) {
-    KeySpec s = number(std::move(section), std::move(key), 0, std::move(unit), lo, hi, std::move(description));
-    s.type = ValueType::Int;
-    s.default_value = def;
-    return s;
-}
-
-KeySpec choice(std::string section, std::string key, std::string def, std::vector<std::string> choices,
-               std::string description) {
-    KeySpec s;
-    s.section = std::move(section);
-    s.key = std::move(key);
-    s.type = ValueType::Enum;
-    s.default_value = std::move(def);
-    s.choices = std::move(choices);
-    s.description = std::move(description);
-    return s;
-}
-
-KeySpec array(std::string section, std::string key, std::vector<double> def, int min_len, int max_len, std::string unit,
-              double lo, double hi, std::string description, bool lo_excl = false) {
-    KeySpec s = number(std::move(section), std::move(key), 0, std::move(unit), lo, hi, std::move(description), lo_excl);
-    s.type = ValueType::FloatArray;
-    s.default_value = std::move(def);
-    s.min_length = min_len;
-    s.max_length = max_len;
-    return s;
-}
-
-KeySpec boolean(std::string section, std::string key, bool def, std::string description) {
-    KeySpec s;
-    s.section = std::move(section);
-    s.key = std::move(key);
-    s.type = ValueType::Bool;
-    s.default_value = def;
-    s.description = std::move(description);
-    return s;
-}
-
-KeySpec text(std::string section, std::string key, std::string def, std::string description) {
-    KeySpec s;
-    s.section = std::move(section);
-    s.key = std::move(key);
-    s.type = ValueType::String;
-    s.default_value = std::move(def);
-    s.description = std::move(description);
-    return s;
-}
+using keys::array;
+using keys::boolean;
+using keys::choice;
+using keys::integer;
+using keys::number;
+using keys::text;
 
 /// The properties that may vary over the surface (§5.9), each with a [variation.*] section.
 const char* const VARYING[] = {"thickness", "young_modulus", "threshold_stress", "toughness"};
@@ -140,15 +83,15 @@ std::vector<KeySpec> build_schema() {
                          "\"image\"."));
     }
     // === [simulation]
-    s.push_back(
-        choice("simulation", "method", "fem-split", {"mass-spring", "fem-remove", "fem-split", "graph-fem"},
-               "Fracture model: fem-split (element splitting with Griffith crack tips, the default), fem-remove "
-               "(element removal: wide cracks), mass-spring (the thesis' first model: lattice-biased, "
-               "resolution-dependent), graph-fem (remeshing-free; not available yet)."));
+    {
+        // The methods and their own keys come from the registry (fracture/method.cpp).
+        std::string about = "Fracture model: ";
+        for (const fracture::MethodInfo& m : fracture::methods())
+            about += (&m == &fracture::methods().front() ? "" : ", ") + m.description;
+        s.push_back(choice("simulation", "method", "fem-split", fracture::method_names(), about + "."));
+    }
     s.push_back(integer("simulation", "elements", 8000, "", 32, 2.0e6,
                         "Target triangle count of the starting mesh. More = finer crack detail and slower."));
-    s.push_back(choice("simulation", "lattice", "random", {"random", "regular"},
-                       "mass-spring only: random (Voronoi cells) or regular (hexagonal cells, 60° cracks)."));
     s.push_back(number("simulation", "duration", 1.0, "time", 0.0, 1000.0,
                        "Simulated time. Growth and shrinkage rates are per unit of it; longer = more, wider cracks.",
                        true));
@@ -159,41 +102,6 @@ std::vector<KeySpec> build_schema() {
                        "0.2–0.3 gives semi-random triangles."));
     s.push_back(integer("simulation", "repulsion_iterations", 100, "", 0, 1000,
                         "Particle-repulsion iterations at most (0 = uniformly random points, poor triangles)."));
-    s.push_back(integer("simulation", "layers", 1, "", 1, 16,
-                        "mass-spring only: stacked material layers joined by springs across the thickness; only "
-                        "the bottom one is anchored (§4.3). More layers = cracks of varying depth."));
-    s.push_back(number("simulation", "anchor_slide", 0.5, "", 0.0, 100.0,
-                       "mass-spring only: an anchor spring longer than this (in mean spring lengths) slides along "
-                       "the background (§4.1); 0 = anchors never slide."));
-    s.push_back(number("simulation", "break_jitter", 0.0, "", 0.0, 0.9,
-                       "mass-spring only: break strains perturbed uniformly by ± this fraction (Fig. 4.6 right): "
-                       "weakens the lattice's preferred crack directions."));
-    s.push_back(number("simulation", "min_angle", 12.0, "deg", 1.0, 30.0,
-                       "fem-split only: smallest triangle angle a cut may leave (§5.7.5); a cut that would leave "
-                       "a thinner sliver goes through the nearer vertex, moved onto the crack when it is free. "
-                       "Higher = better-shaped elements, cracks a little less straight."));
-    s.push_back(number("simulation", "exclusion_radius", -1.0, "m", -1.0, 100.0,
-                       "fem-split only: no new crack starts within this distance of an arrested crack tip, where "
-                       "the stress is singular (Ch. 6). -1 = the mean layer thickness."));
-    s.push_back(
-        integer("simulation", "tip_submodel", 0, "", 0, 6,
-                "fem-split only: take each crack tip's direction from a temporary sub-model around it, refined "
-                "this many times (each halving the element size) and discarded afterwards (§5.7.8). Straighter, "
-                "less mesh-dependent cracks on coarse meshes; slower. 0 = off."));
-    s.push_back(number("simulation", "vm_threshold", 0.0, "", 0.0, 10.0,
-                       "fem-split only, with min_element_size: once per time step, subdivide the elements around "
-                       "nodes where they disagree on the von Mises stress by more than this share of the largest "
-                       "principal stress (§5.7.7, Alg. 13; the thesis suggests 0.1-0.2). 0 = off."));
-    s.push_back(
-        number("simulation", "smoothing_radius", 0.0, "m", -1.0, 100.0,
-               "fem-split only: nodes within this distance of a new crack tip are moved towards better-shaped "
-               "elements (angle-based smoothing, §5.7.9). -1 = 1.5 × the mean starting edge length; 0 = off (the "
-               "default: it costs time and the worst angles come from the cuts themselves)."));
-    s.push_back(boolean("simulation", "griffith", true,
-                        "fem-split only: a crack tip extends only while the energy it releases pays for the new "
-                        "crack wall (Griffith, Alg. 11, with material.toughness); a stopped tip stays stopped. "
-                        "false = tips run while the stress is over threshold, and a tip below it waits and runs "
-                        "on when the load has raised its stress to the threshold."));
     s.push_back(number("simulation", "min_element_size", 0.0, "m", 0.0, 1000.0,
                        "Dynamic subdivision (§5.6.4): an element over threshold but longer than this is "
                        "subdivided instead of cracked, so fine elements appear only where cracks run. 0 = off "
@@ -227,6 +135,8 @@ std::vector<KeySpec> build_schema() {
     s.push_back(choice("simulation", "density", "uniform", {"uniform", "thickness"},
                        "Element density: uniform, or thickness = element size proportional to the local layer "
                        "thickness (fine elements where cracks are dense)."));
+    for (const fracture::MethodInfo& m : fracture::methods())
+        s.insert(s.end(), m.keys.begin(), m.keys.end());
     // === [post]
     s.push_back(number("post", "curl", 0.0, "", 0.0, 10.0,
                        "0 = pieces stay glued to the background; > 0 = cracked pieces detach and their rims lift, "
@@ -426,8 +336,14 @@ std::string schema_markdown() {
     for (const auto& [section, about] : preset_sections()) {
         md << "\n## [" << section << "]\n\n" << about << "\n\n";
         md << "| key | type | default | unit | range | description |\n|---|---|---|---|---|---|\n";
+        std::string group; // keys one fracture method reads come last, in a table of their own
         for (const KeySpec& k : preset_schema()) {
             if (k.section != section) continue;
+            if (k.group != group) {
+                group = k.group;
+                md << "\n### [" << section << "] keys of " << group << "\n\n"
+                   << "| key | type | default | unit | range | description |\n|---|---|---|---|---|---|\n";
+            }
             const char* type = "";
             switch (k.type) {
             case ValueType::Float:

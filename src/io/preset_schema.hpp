@@ -2,32 +2,16 @@
 /// @file The preset schema: every key's type, default, unit, range and one-line
 /// description. `presets show`, docs/presets.md and all validation come from this table.
 
-#include <cstdint>
-#include <optional>
+#include "core/settings.hpp"
+
 #include <string>
-#include <variant>
 #include <vector>
 
 namespace crackle::io {
 
-enum class ValueType { Float, Int, Bool, String, Enum, FloatArray };
-
-using Value = std::variant<double, std::int64_t, bool, std::string, std::vector<double>>;
-
-struct KeySpec {
-    std::string section; ///< "material", "variation.thickness"
-    std::string key;     ///< "young_modulus"
-    ValueType type = ValueType::Float;
-    Value default_value;
-    std::string unit;                 ///< "Pa", "m", "1/time", "" when dimensionless
-    std::string description;          ///< one line: what it does, and how it looks
-    double min = -1e300, max = 1e300; ///< numeric range (each element for arrays)
-    bool min_exclusive = false, max_exclusive = false;
-    std::vector<std::string> choices;   ///< Enum values
-    int min_length = 0, max_length = 0; ///< FloatArray lengths
-
-    std::string name() const { return section + "." + key; }
-};
+using crackle::KeySpec;
+using crackle::Value;
+using crackle::ValueType;
 
 /// All keys, in documentation order.
 const std::vector<KeySpec>& preset_schema();

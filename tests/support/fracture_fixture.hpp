@@ -1,8 +1,8 @@
 #pragma once
 /// @file Small fracture runs for tests.
 
-#include "fracture/fem_remove.hpp"
-#include "fracture/fem_split.hpp"
+#include "fracture/fem_remove/fem_remove.hpp"
+#include "fracture/fem_split/fem_split.hpp"
 #include "fracture/statistics.hpp"
 #include "support/fem_fixture.hpp"
 
@@ -12,6 +12,8 @@ struct FractureRun {
     fracture::CrackPattern pattern;
     fracture::PatternStatistics stats;
     fracture::RunStats run;
+    fracture::SplitStats split;     ///< fem-split runs
+    fracture::RemovalStats removal; ///< fem-remove runs
 };
 
 inline FractureRun run_removal(const LayerSpec& spec, double duration = 1.0, double min_element_size = 0.0,
@@ -24,7 +26,7 @@ inline FractureRun run_removal(const LayerSpec& spec, double duration = 1.0, dou
     o.min_element_size = min_element_size;
     Rng rng(s.seed, RngStream::Fracture);
     FractureRun r;
-    r.pattern = fracture::run_fem_remove(*layer.model, o, rng, &r.run);
+    r.pattern = fracture::run_fem_remove(*layer.model, o, rng, &r.run, &r.removal);
     r.stats = fracture::pattern_statistics(r.pattern);
     return r;
 }
@@ -38,7 +40,7 @@ inline FractureRun run_split(const LayerSpec& spec, double duration = 1.0, fract
     split.check_invariants = check_invariants;
     Rng rng(spec.seed, RngStream::Fracture);
     FractureRun r;
-    r.pattern = fracture::run_fem_split(*layer.model, options, split, rng, &r.run);
+    r.pattern = fracture::run_fem_split(*layer.model, options, split, rng, &r.run, &r.split);
     r.stats = fracture::pattern_statistics(r.pattern);
     return r;
 }

@@ -1,7 +1,7 @@
 #pragma once
 /// @file Small mass–spring runs for tests.
 
-#include "fracture/mass_spring.hpp"
+#include "fracture/mass_spring/mass_spring.hpp"
 #include "fracture/statistics.hpp"
 #include "support/fem_fixture.hpp"
 

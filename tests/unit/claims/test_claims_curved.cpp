@@ -4,7 +4,7 @@
 // (Figs. 5.33-5.34, Table 5.2). And a check of curvature itself: the cylinder's stress, first
 // fracture and patterns approach the plane's as the trunk's radius grows.
 
-#include "fracture/fem_split.hpp"
+#include "fracture/fem_split/fem_split.hpp"
 #include "support/accuracy.hpp"
 #include "support/claims_fixture.hpp"
 #include "support/curved_claims.hpp"
@@ -93,9 +93,9 @@ Bark bark_run(const LayerSpec& s, const test::FieldVariations& variations = {}, 
     const auto r = test::run_split_varied(s, variations, false, duration);
     Bark b;
     b.fissures = test::mean_crossings(r.pattern, LINES);
-    b.splits = double(r.run.splits);
-    b.extensions = double(r.run.extensions);
-    b.arrests = double(r.run.arrests);
+    b.splits = double(r.split.splits);
+    b.extensions = double(r.split.extensions);
+    b.arrests = double(r.split.arrests);
     b.axial = r.stats.axial_fraction;
     b.anisotropy = r.stats.anisotropy;
     const double d = std::abs(r.stats.dominant_angle_deg - 90.0);
@@ -161,7 +161,7 @@ TEST_SUITE("claims") {
             LayerSpec s = sphere(seed);
             s.growth = {sim::GrowthKind::Isogonic, 2e-4, 2e-4, 0.0};
             const auto r = test::run_split_varied(s, {}, false);
-            REQUIRE(r.run.splits > 30);
+            REQUIRE(r.split.splits > 30);
             const auto bands = test::orientation_by_latitude(r.pattern, BANDS);
             test::Orientation all;
             for (std::size_t b = 0; b < bands.size(); ++b) {
@@ -181,7 +181,7 @@ TEST_SUITE("claims") {
             LayerSpec s = sphere(seed);
             s.shrinkage = {2e-4, 2e-4};
             const auto r = test::run_split_varied(s, {}, false);
-            REQUIRE(r.run.splits > 30);
+            REQUIRE(r.split.splits > 30);
             for (const test::Orientation& o : test::orientation_by_latitude(r.pattern, BANDS))
                 worst_shrink = std::max(worst_shrink, o.anisotropy());
             // Growth ≡ shrinkage (digest §7.3): the same strains, so the same cracks.
@@ -220,7 +220,7 @@ TEST_SUITE("claims") {
             LayerSpec s = sphere(seed);
             s.growth = {sim::GrowthKind::Anisotropic, 1.25e-4, 5e-4, 0.0};
             const auto r = test::run_split_varied(s, {}, false);
-            REQUIRE(r.run.splits > 30);
+            REQUIRE(r.split.splits > 30);
             const auto bands = test::orientation_by_latitude(r.pattern, BANDS);
             for (std::size_t b = 0; b < bands.size(); ++b) {
                 REQUIRE(bands[b].count >= 60);

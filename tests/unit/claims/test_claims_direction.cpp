@@ -3,7 +3,7 @@
 // and only snapping to a vertex that cannot move (the plane-rotation fallback) turns it.
 
 #include "core/log.hpp"
-#include "fracture/fem_split.hpp"
+#include "fracture/fem_split/fem_split.hpp"
 #include "support/accuracy.hpp"
 #include "support/fracture_fixture.hpp"
 
@@ -69,14 +69,14 @@ bool has_direction(const std::vector<CrackEdgeAt>& edges, const Vec2& d) {
 /// Runs fem-split on `m` from its current state until its `events`-th event (a fresh run: no
 /// tips queued, so its first event is a new fracture); returns that event and the run's stats.
 bool one_event(sim::FemModel& m, std::uint64_t seed, std::size_t events, fracture::Event& ev,
-               fracture::RunStats* stats = nullptr) {
+               fracture::SplitStats* stats = nullptr) {
     fracture::FractureOptions o;
     o.duration = 1.0;
     o.max_events = events;
     fracture::SplitOptions split;
     split.check_invariants = true;
     Rng rng(seed, RngStream::Fracture);
-    const fracture::CrackPattern p = fracture::run_fem_split(m, o, split, rng, stats);
+    const fracture::CrackPattern p = fracture::run_fem_split(m, o, split, rng, nullptr, stats);
     if (p.events.size() < events) return false;
     ev = p.events.back();
     return true;
@@ -148,7 +148,7 @@ TEST_SUITE("claims") {
                 CAPTURE(step);
                 const sim::FemModel m0 = m;
                 fracture::Event ev;
-                fracture::RunStats one, two;
+                fracture::SplitStats one, two;
                 if (!one_event(m, seed, 1, ev, &one)) break;
                 REQUIRE(ev.kind == "split");
                 // === The new fracture: direction at its node just before the cut

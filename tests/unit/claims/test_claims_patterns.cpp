@@ -76,7 +76,7 @@ TEST_SUITE("claims") {
             s.thickness_end = 0.02;
             s.shrinkage = {3e-4, 3e-4};
             const auto r = test::run_split(s);
-            REQUIRE(r.run.splits > 20);
+            REQUIRE(r.split.splits > 20);
             // ρ_c in four bands of v from 0.05 to 0.95 (thin to thick).
             constexpr int BANDS = 4;
             std::vector<double> band(BANDS, 0.0);

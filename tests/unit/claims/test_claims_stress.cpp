@@ -3,7 +3,7 @@
 // and 5.25 (local relaxation does not leak across a crack). The cracks are chains of mesh
 // edges cut open (tests/support/scripted_crack.hpp), so each test controls where they run.
 
-#include "fracture/fem_split.hpp"
+#include "fracture/fem_split/fem_split.hpp"
 #include "support/accuracy.hpp"
 #include "support/fracture_fixture.hpp"
 #include "support/scripted_crack.hpp"
@@ -369,10 +369,10 @@ TEST_SUITE("claims") {
         split.tip_submodel_levels = 2;
         const test::FractureRun run = test::run_split(s, 1.0, split);
         const double added = double(run.pattern.mesh.num_faces()) - double(run.pattern.elements_initial);
-        const double cuts = double(2 * run.run.splits + run.run.extensions);
+        const double cuts = double(2 * run.split.splits + run.split.extensions);
         test::record_claim("5.24", "no permanent elements (whole fem-split run, sub-models at every tip)",
                            "elements added / (2 x cut edges)", added / (2 * cuts), "<= 1");
-        CHECK(run.run.submodels > 50);
+        CHECK(run.split.submodels > 50);
         CHECK(added <= 2 * cuts);
         CHECK(worst_sub < 0.05);
         CHECK(best_coarse > 2 * worst_sub);

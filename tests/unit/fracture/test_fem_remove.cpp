@@ -1,4 +1,4 @@
-#include "fracture/fem_remove.hpp"
+#include "fracture/fem_remove/fem_remove.hpp"
 #include "support/accuracy.hpp"
 #include "support/fracture_fixture.hpp"
 
@@ -202,7 +202,7 @@ TEST_SUITE("fracture") {
             LayerSpec fine = coarse;
             fine.elements = 1500;
             const auto u = test::run_removal(fine);
-            CHECK(a.run.subdivisions > 50);
+            CHECK(a.removal.subdivisions > 50);
             CHECK(a.pattern.mesh.validate() == "");
             adaptive_rho.push_back(a.stats.crack_length_per_area);
             uniform_rho.push_back(u.stats.crack_length_per_area);

@@ -1,4 +1,5 @@
-#include "fracture/fem_split.hpp"
+#include "fracture/fem_split/fem_split.hpp"
+#include "fracture/toolkit/fem_pattern.hpp"
 #include "mesh/surface_mesh.hpp"
 #include "support/accuracy.hpp"
 #include "support/fracture_fixture.hpp"
@@ -246,8 +247,8 @@ TEST_SUITE("fracture") {
             CHECK(sides[1] == -1);
             CHECK(sides[2] == 1);
             CHECK(sides[3] == -1);
-            CHECK(r.run.splits > 0);
-            CHECK(r.run.extensions > r.run.splits); // cracks run on from their start
+            CHECK(r.split.splits > 0);
+            CHECK(r.split.extensions > r.split.splits); // cracks run on from their start
             int alternations = 0;
             for (std::size_t i = 1; i < sides.size(); ++i)
                 alternations += sides[i] != sides[i - 1];
@@ -292,8 +293,8 @@ TEST_SUITE("fracture") {
                 fracture::SplitOptions split;
                 split.check_invariants = true;
                 Rng rng(s.seed, RngStream::Fracture);
-                fracture::RunStats run;
-                const auto pattern = fracture::run_fem_split(*layer.model, o, split, rng, &run);
+                fracture::SplitStats run;
+                const auto pattern = fracture::run_fem_split(*layer.model, o, split, rng, nullptr, &run);
                 CAPTURE(std::string(mesh::to_string(kind)));
                 CAPTURE(elements);
                 REQUIRE(run.splits >= 4);
@@ -345,7 +346,7 @@ TEST_SUITE("fracture") {
         // With a negligible toughness the same cracks run through the weak side.
         const LayerSpec brittle = spec(mesh::SurfaceKind::Plane, 800, 1);
         const auto free_run = test::run_split(brittle);
-        CHECK(free_run.run.arrests == 0);
+        CHECK(free_run.split.arrests == 0);
         double lowest = 1;
         for (const auto& e : free_run.pattern.events) {
             const double v = brittle.size.y() > 0 ? e.position.y() / brittle.size.y() : 0;
@@ -364,10 +365,10 @@ TEST_SUITE("fracture") {
             split.smoothing_radius = smoothing; // -1: angle-based smoothing near new tips (§5.7.9)
             const auto r = test::run_split(s, 1.0, split);
             CAPTURE(smoothing);
-            REQUIRE(r.run.splits > 5);
-            CHECK(r.run.collapses > 0);
-            CHECK((r.run.smoothed > 0) == (smoothing != 0.0)); // and every move kept the invariants
-            CHECK(r.run.flips > 0);                            // slivers near cuts flipped away
+            REQUIRE(r.split.splits > 5);
+            CHECK(r.split.collapses > 0);
+            CHECK((r.split.smoothed > 0) == (smoothing != 0.0)); // and every move kept the invariants
+            CHECK(r.split.flips > 0);                            // slivers near cuts flipped away
             // A split leaves ≥ min_angle; a collapse may go down to half of it; snapping adds none;
             // a flip only raises the worst angle of its two faces.
             CAPTURE(initial);
@@ -447,7 +448,7 @@ TEST_SUITE("fracture") {
         // Snapshots of one run, at every time step.
         std::vector<fracture::PatternStatistics> snaps;
         fracture::FractureOptions o;
-        o.before_time_step = [&](const sim::FemModel& m) {
+        o.hooks.before_time_step = [&](const sim::FemModel& m) {
             snaps.push_back(fracture::pattern_statistics(fracture::pattern_from_model(m, "fem-split", 0)));
         };
         const auto r = test::run_split(s, 1.0, {}, o);
@@ -498,7 +499,7 @@ TEST_SUITE("fracture") {
         fracture::FractureOptions o;
         o.min_element_size = 0.012;
         const auto adaptive = test::run_split(s, 1.0, {}, o);
-        CHECK(adaptive.run.subdivisions > 0);
+        CHECK(adaptive.split.subdivisions > 0);
         s.elements = 1000;
         const auto uniform = test::run_split(s);
         CAPTURE(adaptive.stats.crack_length_per_area);
@@ -519,11 +520,11 @@ TEST_SUITE("fracture") {
         fracture::SplitOptions split;
         split.vm_threshold = 0.05;
         const auto with = test::run_split(s, 1.0, split, o);
-        CHECK(with.run.vm_refinements > 0);
-        CHECK(with.run.splits > 0);
+        CHECK(with.split.vm_refinements > 0);
+        CHECK(with.split.splits > 0);
         split.vm_threshold = 0;
         const auto without = test::run_split(s, 1.0, split, o);
-        CHECK(without.run.vm_refinements == 0);
+        CHECK(without.split.vm_refinements == 0);
         // The refined run cracks like the unrefined one, not into a different pattern.
         CHECK(with.stats.crack_length_per_area == doctest::Approx(without.stats.crack_length_per_area).epsilon(0.3));
     }
@@ -539,7 +540,7 @@ TEST_SUITE("fracture") {
             const auto sub = test::run_split(s, 1.0, split); // invariants checked after every step
             const auto plain = test::run_split(s);
             CAPTURE(seed);
-            CHECK(sub.run.submodels > 0);
+            CHECK(sub.split.submodels > 0);
             CHECK(sub.stats.anisotropy > 0.9); // cracks run along y, across the stretch
             double d = std::abs(sub.stats.dominant_angle_deg - 90.0);
             CHECK(std::min(d, 180.0 - d) < 10.0);

@@ -1,6 +1,6 @@
 // The fracture loops against their references: stiffness refreshed at every step, crack tips
 // that wait for the load, and local relaxation cascades against global relaxation.
-#include "fracture/fem_split.hpp"
+#include "fracture/fem_split/fem_split.hpp"
 #include "support/accuracy.hpp"
 #include "support/fracture_fixture.hpp"
 
@@ -101,8 +101,8 @@ TEST_SUITE("fracture") {
                 split.griffith = false;
                 split.check_invariants = true;
                 Rng rng(seed, RngStream::Fracture);
-                fracture::RunStats run;
-                const auto pattern = fracture::run_fem_split(*layer.model, o, split, rng, &run);
+                fracture::SplitStats run;
+                const auto pattern = fracture::run_fem_split(*layer.model, o, split, rng, nullptr, &run);
                 CAPTURE(std::string(mesh::to_string(kind)));
                 CAPTURE(seed);
                 REQUIRE(run.splits > 0);
@@ -135,7 +135,7 @@ TEST_SUITE("fracture") {
             double last_time = -1;
             // After every event: the stresses of the locally relaxed model against a global
             // solve of the same mesh; at every time step the same for the stress rates.
-            local.after_event = [&](const sim::FemModel& m, const fracture::Event& ev) {
+            local.hooks.after_event = [&](const sim::FemModel& m, const fracture::Event& ev) {
                 sim::FemModel g = m;
                 g.relax();
                 position_error = std::max(position_error, stress_difference(m, g, false));
@@ -143,7 +143,7 @@ TEST_SUITE("fracture") {
                 last_time = ev.time;
                 longest = std::max(longest, run_length);
             };
-            local.before_time_step = [&](const sim::FemModel& m) {
+            local.hooks.before_time_step = [&](const sim::FemModel& m) {
                 sim::FemModel g = m;
                 g.relax();
                 g.solve_rate();

@@ -1,5 +1,5 @@
 #include "core/atomic_file.hpp"
-#include "fracture/fem_remove.hpp"
+#include "fracture/fem_remove/fem_remove.hpp"
 #include "io/mesh_export.hpp"
 #include "io/png.hpp"
 #include "support/cli_runner.hpp"

@@ -1,4 +1,4 @@
-#include "fracture/fem_remove.hpp"
+#include "fracture/fem_remove/fem_remove.hpp"
 #include "post/pieces.hpp"
 #include "support/accuracy.hpp"
 #include "support/fem_fixture.hpp"

@@ -1,4 +1,5 @@
-#include "fracture/fem_remove.hpp"
+#include "fracture/fem_remove/fem_remove.hpp"
+#include "fracture/toolkit/fem_pattern.hpp"
 #include "io/png.hpp"
 #include "io/texture_set.hpp"
 #include "render/bake.hpp"

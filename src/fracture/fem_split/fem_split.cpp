@@ -1,10 +1,13 @@
-#include "fracture/fem_split.hpp"
+#include "fracture/fem_split/fem_split.hpp"
 
 #include "core/error.hpp"
 #include "core/log.hpp"
 #include "core/progress.hpp"
 #include "core/timer.hpp"
-#include "fracture/stress_cache.hpp"
+#include "fracture/toolkit/fem_loop.hpp"
+#include "fracture/toolkit/fem_pattern.hpp"
+#include "fracture/toolkit/next_crossing.hpp"
+#include "fracture/toolkit/pick.hpp"
 
 #include <Eigen/Eigenvalues>
 
@@ -207,8 +210,10 @@ bool is_tip(const sim::FemModel& model, std::size_t v) {
 /// The loop's state.
 class Splitter {
 public:
-    Splitter(sim::FemModel& model, const FractureOptions& options, const SplitOptions& split, Rng& rng, RunStats& stats)
-        : m_model(model), m_options(options), m_split(split), m_rng(rng), m_stats(stats), m_cache(model, false) {
+    Splitter(sim::FemModel& model, const FractureOptions& options, const SplitOptions& split, Rng& rng, RunStats& stats,
+             SplitStats& counts)
+        : m_model(model), m_options(options), m_split(split), m_rng(rng), m_stats(stats), m_counts(counts),
+          m_cache(model, false), m_events(options) {
         double h = 0;
         for (std::size_t v = 0; v < model.mesh().num_vertices(); ++v)
             h += model.vertex_thickness(vertex_id(v));
@@ -221,7 +226,8 @@ public:
         m_rate_radius = m_radius;
     }
 
-    std::vector<Event> run(bool& capped);
+    /// Runs to the end; returns the event log.
+    EventLog& run();
 
 private:
     // === Cutting
@@ -278,7 +284,9 @@ private:
     const SplitOptions& m_split;
     Rng& m_rng;
     RunStats& m_stats;
+    SplitStats& m_counts;
     StressCache m_cache;
+    EventLog m_events;
     sim::LocalRelaxOptions m_local;
     double m_radius = 4, m_rate_radius = 4, m_exclusion = 0.01, m_smoothing = 0, m_last_step = 1e-3;
     std::deque<std::size_t> m_tips;
@@ -292,28 +300,15 @@ private:
 };
 
 std::vector<std::size_t> Splitter::relax_near(const std::vector<FaceId>& faces, double* released) {
-    Timer timer;
     std::vector<std::size_t> seeds;
     for (FaceId f : faces)
         for (VertexId w : m_model.mesh().faces[f].v)
             seeds.push_back(ix(w));
     std::sort(seeds.begin(), seeds.end());
     seeds.erase(std::unique(seeds.begin(), seeds.end()), seeds.end());
-    const sim::SolveStats s =
-        m_options.local_relaxation ? m_model.relax_local(seeds, m_radius, m_local) : m_model.relax();
-    if (released) *released = s.energy_release;
-    m_stats.solver_iterations += s.iterations;
-    ++m_stats.solves;
-    if (m_options.local_relaxation) {
-        ++m_stats.local_solves;
-        m_stats.local_nodes += s.nodes;
-        m_stats.local_fallbacks += s.fell_back;
-    }
-    m_rate_seeds.insert(m_rate_seeds.end(), seeds.begin(), seeds.end());
-    m_stats.solve_seconds += timer.seconds();
     // §5.8.3: no cascade of local relaxations may drift (a trial is checked once accepted).
-    if (!m_in_trial) check_drift(m_model, m_options, m_radius, m_stats);
-    return m_model.last_updated_vertices();
+    return relax_after_change(m_model, seeds, m_radius, m_local, m_options, m_stats, m_rate_seeds, !m_in_trial,
+                              released);
 }
 
 void Splitter::refresh_after(const std::vector<FaceId>& touched, const std::vector<std::size_t>& moved) {
@@ -357,7 +352,7 @@ std::vector<FaceId> Splitter::subdivide_around(std::size_t v, double size, std::
 bool Splitter::refine_vicinity(std::size_t v) {
     if (m_options.min_element_size <= 0) return false;
     Timer timer;
-    const std::vector<FaceId> touched = subdivide_around(v, m_options.min_element_size, &m_stats.subdivisions);
+    const std::vector<FaceId> touched = subdivide_around(v, m_options.min_element_size, &m_counts.subdivisions);
     m_stats.topology_seconds += timer.seconds();
     if (touched.empty()) return false;
     m_cache.resize();
@@ -395,7 +390,7 @@ bool Splitter::submodel_direction(std::size_t tip, Vec3& crack) {
         }
     }
     m_model.rollback();
-    ++m_stats.submodels;
+    ++m_counts.submodels;
     m_stats.stress_seconds += timer.seconds();
     return found;
 }
@@ -436,8 +431,8 @@ void Splitter::refine_by_von_mises() {
         if (m_model.element_size(face_id(f)) <= m_options.min_element_size) continue;
         const std::vector<FaceId> faces = m_model.subdivide(face_id(f));
         touched.insert(touched.end(), faces.begin(), faces.end());
-        ++m_stats.subdivisions;
-        ++m_stats.vm_refinements;
+        ++m_counts.subdivisions;
+        ++m_counts.vm_refinements;
     }
     m_stats.topology_seconds += timer.seconds();
     if (touched.empty()) return;
@@ -475,7 +470,7 @@ std::vector<FaceId> Splitter::flip_slivers(const std::vector<FaceId>& faces) {
             const FaceId g = m_model.flip_edge(f, k);
             changed.push_back(f);
             changed.push_back(g);
-            ++m_stats.flips;
+            ++m_counts.flips;
             break; // f changed: its edges are new
         }
     }
@@ -579,7 +574,7 @@ void Splitter::smooth_near(std::size_t tip) {
             m_model.move_vertex(vertex_id(v), target, top, rate);
             for (std::uint32_t g : m_model.incident_faces(v))
                 touched.push_back(face_id(g));
-            ++m_stats.smoothed;
+            ++m_counts.smoothed;
         }
     m_stats.topology_seconds += timer.seconds();
     if (touched.empty()) return;
@@ -658,13 +653,13 @@ Splitter::CutEnd Splitter::cut_towards(std::size_t v, const Vec3& direction, std
             m_model.move_vertex(vertex_id(x), target, top, rate);
             for (std::uint32_t g : m_model.incident_faces(x))
                 touched.push_back(face_id(g));
-            ++m_stats.collapses;
+            ++m_counts.collapses;
             end.vertex = x;
             end.ok = true;
             return end;
         }
     }
-    ++m_stats.snaps;
+    ++m_counts.snaps;
     end.vertex = x;
     end.ok = true;
     return end;
@@ -730,7 +725,7 @@ Splitter::Start Splitter::start_fracture(std::size_t v, double ratio, Event& ev)
     ev.position = p0;
     ev.kind = "split";
     ev.ratio = ratio;
-    ++m_stats.splits;
+    ++m_counts.splits;
     return Start::Opened;
 }
 
@@ -767,11 +762,11 @@ bool Splitter::extend_tip(std::size_t tip, Event& ev) {
     if (trial) m_model.begin_trial();
     m_in_trial = trial;
     // What a rolled-back cut counted is not kept.
-    const std::size_t collapses = m_stats.collapses, snaps = m_stats.snaps;
+    const std::size_t collapses = m_counts.collapses, snaps = m_counts.snaps;
     auto roll_back = [&] {
         m_model.rollback();
-        m_stats.collapses = collapses;
-        m_stats.snaps = snaps;
+        m_counts.collapses = collapses;
+        m_counts.snaps = snaps;
     };
     std::vector<FaceId> touched;
     const CutEnd end = cut_towards(tip, dir, touched);
@@ -816,13 +811,13 @@ bool Splitter::extend_tip(std::size_t tip, Event& ev) {
         if (!(G > G_ic)) {
             roll_back();
             m_zones.push_back(m_model.mesh().positions[vertex_id(tip)]);
-            ++m_stats.arrests;
+            ++m_counts.arrests;
             Event arrest;
             arrest.time = m_model.time();
             arrest.position = m_zones.back();
             arrest.kind = "arrest";
             arrest.ratio = ns.ratio;
-            m_stats.arrests_at.push_back(arrest);
+            m_counts.arrests_at.push_back(arrest);
             return false;
         }
     }
@@ -842,7 +837,7 @@ bool Splitter::extend_tip(std::size_t tip, Event& ev) {
     ev.position = m_model.mesh().positions[vertex_id(end.vertex)];
     ev.kind = "extend";
     ev.ratio = ns.ratio;
-    ++m_stats.extensions;
+    ++m_counts.extensions;
     return true;
 }
 
@@ -881,26 +876,14 @@ void Splitter::update_node_ratios() {
 bool Splitter::pick_node(std::size_t& node, double& ratio) {
     Timer timer;
     update_node_ratios();
-    double best = 1.0;
-    std::vector<std::size_t> ties;
-    for (std::size_t v = 0; v < m_model.mesh().num_vertices(); ++v) {
-        // Intact nodes and crack lips (a new crack may start at an old one's side); tips have
-        // their own queue, and arrested ones their exclusion zones.
-        const double r = m_node_ratio[v];
-        if (r <= 1.0 || r < best * (1 - 1e-12)) continue;
-        if (m_model.incident_faces(v).empty() || is_tip(m_model, v) || excluded(v)) continue;
-        if (r > best * (1 + 1e-12)) {
-            best = r;
-            ties.assign(1, v);
-        } else {
-            ties.push_back(v);
-        }
-    }
+    // Intact nodes and crack lips (a new crack may start at an old one's side); tips have their
+    // own queue, and arrested ones their exclusion zones.
+    const bool found = pick_most_over(
+        m_model.mesh().num_vertices(), [&](std::size_t v) { return m_node_ratio[v]; },
+        [&](std::size_t v) { return !m_model.incident_faces(v).empty() && !is_tip(m_model, v) && !excluded(v); }, m_rng,
+        node, ratio);
     m_stats.stress_seconds += timer.seconds();
-    if (ties.empty()) return false;
-    node = ties.size() == 1 ? ties[0] : ties[m_rng.uniform_int(static_cast<std::uint32_t>(ties.size()))];
-    ratio = best;
-    return true;
+    return found;
 }
 
 void Splitter::advance_time() {
@@ -949,33 +932,18 @@ void Splitter::advance_time() {
             }
         return any;
     };
-    double t_lo = t0, t_hi = t0, dt = std::max(m_last_step, dt_min);
-    bool found = false;
-    while (t_hi < horizon) {
-        t_hi = std::min(t_lo + dt, horizon);
-        if (over(t_hi, nullptr)) {
-            found = true;
-            break;
-        }
-        t_lo = t_hi;
-        dt *= 2.0;
-    }
-    if (found) {
-        std::vector<NodeLine> candidates;
-        over(t_hi, &candidates);
-        lines = std::move(candidates);
-        while (t_hi - t_lo > dt_min) {
-            const double mid = 0.5 * (t_lo + t_hi);
-            (over(mid, nullptr) ? t_hi : t_lo) = mid;
-        }
-        m_last_step = std::max(t_hi - t0, dt_min);
-    }
+    const double t_next = next_crossing(
+        t0, horizon, dt_min, m_last_step, [&](double t) { return over(t, nullptr); },
+        [&](double t_hi) {
+            std::vector<NodeLine> candidates;
+            over(t_hi, &candidates);
+            lines = std::move(candidates);
+        });
     m_stats.stress_seconds += timer.seconds();
-    advance_model(m_model, m_cache, t_hi, m_stats);
+    advance_model(m_model, m_cache, t_next, m_stats);
 }
 
-std::vector<Event> Splitter::run(bool& capped) {
-    std::vector<Event> events;
+EventLog& Splitter::run() {
     {
         Timer setup, timer;
         m_stats.solver_iterations += m_model.relax().iterations + m_model.solve_rate().iterations;
@@ -989,21 +957,13 @@ std::vector<Event> Splitter::run(bool& capped) {
     Progress progress("fracture", m_options.duration);
     while (true) {
         progress.update(m_model.time());
-        if (events.size() >= m_options.max_events) {
-            capped = true;
-            log::warn("fracture stopped at simulation.max_events = ", m_options.max_events, " (t = ", m_model.time(),
-                      " of ", m_options.duration, ")");
-            break;
-        }
+        if (m_events.full(m_model.time())) break;
         // Tips first, first in first out (§5.7.4, Fig. 5.20).
         if (!m_tips.empty()) {
             const std::size_t tip = m_tips.front();
             m_tips.pop_front();
             Event ev;
-            if (extend_tip(tip, ev)) {
-                events.push_back(ev);
-                if (m_options.after_event) m_options.after_event(m_model, ev);
-            }
+            if (extend_tip(tip, ev)) m_events.add(ev, m_model);
             check("a crack-tip step");
             continue;
         }
@@ -1012,10 +972,9 @@ std::vector<Event> Splitter::run(bool& capped) {
         if (pick_node(node, ratio)) {
             Event ev;
             const Start started = start_fracture(node, ratio, ev);
-            if (started == Start::Opened) {
-                events.push_back(ev);
-                if (m_options.after_event) m_options.after_event(m_model, ev);
-            } else if (started == Start::Blocked)
+            if (started == Start::Opened)
+                m_events.add(ev, m_model);
+            else if (started == Start::Blocked)
                 m_zones.push_back(m_model.mesh().positions[vertex_id(node)]); // nowhere to cut
             check("a new fracture");
             continue;
@@ -1029,7 +988,7 @@ std::vector<Event> Splitter::run(bool& capped) {
         check("von Mises refinement");
     }
     progress.finish();
-    return events;
+    return m_events;
 }
 
 } // namespace
@@ -1080,13 +1039,13 @@ NodalStress nodal_stress(const sim::FemModel& model, std::size_t vertex) {
 }
 
 CrackPattern run_fem_split(sim::FemModel& model, const FractureOptions& options, const SplitOptions& split, Rng& rng,
-                           RunStats* stats_out) {
+                           RunStats* stats_out, SplitStats* split_out) {
     RunStats stats;
+    SplitStats counts;
     Timer total;
     const std::size_t elements_initial = model.num_alive();
-    Splitter splitter(model, options, split, rng, stats);
-    bool capped = false;
-    std::vector<Event> events = splitter.run(capped);
+    Splitter splitter(model, options, split, rng, stats, counts);
+    EventLog& events = splitter.run();
     CrackPattern pattern = pattern_from_model(model, "fem-split", elements_initial);
     // Crack openings: the distance between the deformed midpoints of the two lips of an edge.
     std::map<std::array<double, 6>, std::vector<std::size_t>> lips;
@@ -1108,10 +1067,11 @@ CrackPattern run_fem_split(sim::FemModel& model, const FractureOptions& options,
         const double w = (mid(pattern.cracks[ids[0]]) - mid(pattern.cracks[ids[1]])).norm();
         pattern.cracks[ids[0]].opening = pattern.cracks[ids[1]].opening = w;
     }
-    pattern.events = std::move(events);
-    pattern.events_capped = capped;
+    pattern.events_capped = events.capped();
+    pattern.events = events.take();
     stats.total_seconds = total.seconds();
     if (stats_out) *stats_out = stats;
+    if (split_out) *split_out = counts;
     return pattern;
 }
 

@@ -1,9 +1,10 @@
-#include "fracture/mass_spring.hpp"
+#include "fracture/mass_spring/mass_spring.hpp"
 
 #include "core/error.hpp"
 #include "core/log.hpp"
 #include "core/progress.hpp"
 #include "core/timer.hpp"
+#include "fracture/toolkit/pick.hpp"
 #include "mesh/cut.hpp"
 #include "mesh/lattice.hpp"
 #include "mesh/sampling.hpp"
@@ -586,7 +587,7 @@ CrackPattern run_mass_spring(MassSpringModel& model, const FractureOptions& opti
     RunStats run;
     MassSpringStats stats;
     Timer total;
-    std::vector<Event> events;
+    EventLog events(options);
     const double dt_min = options.time_tolerance * options.duration;
     auto relax = [&]() {
         Timer t;
@@ -596,28 +597,8 @@ CrackPattern run_mass_spring(MassSpringModel& model, const FractureOptions& opti
     };
     relax();
     Progress progress("mass-spring", options.duration);
-    bool capped = false;
     const auto& springs = model.springs();
 
-    auto best_candidate = [&](double& ratio_out) -> std::int64_t {
-        double best = 1.0;
-        std::vector<std::size_t> ties;
-        for (std::size_t s = 0; s < springs.size(); ++s) {
-            if (springs[s].broken) continue;
-            const double r = model.ratio(s);
-            if (r <= 1.0) continue;
-            if (r > best * (1 + 1e-12)) {
-                best = r;
-                ties.assign(1, s);
-            } else if (r >= best * (1 - 1e-12)) {
-                ties.push_back(s);
-            }
-        }
-        if (ties.empty()) return -1;
-        ratio_out = best;
-        return static_cast<std::int64_t>(
-            ties.size() == 1 ? ties[0] : ties[rng.uniform_int(static_cast<std::uint32_t>(ties.size()))]);
-    };
     auto max_ratio = [&]() {
         double r = 0;
         for (std::size_t s = 0; s < springs.size(); ++s)
@@ -628,14 +609,13 @@ CrackPattern run_mass_spring(MassSpringModel& model, const FractureOptions& opti
     while (true) {
         progress.update(model.time());
         double ratio = 0;
-        const std::int64_t s = best_candidate(ratio);
-        if (s >= 0) {
-            if (events.size() >= options.max_events) {
-                capped = true;
-                log::warn("mass-spring stopped at simulation.max_events = ", options.max_events);
-                break;
-            }
-            const auto& sp = springs[static_cast<std::size_t>(s)];
+        std::size_t s = 0;
+        // The spring most over its break strain, ties drawn from the seed.
+        if (pick_most_over(
+                springs.size(), [&](std::size_t i) { return model.ratio(i); },
+                [&](std::size_t i) { return !springs[i].broken; }, rng, s, ratio)) {
+            if (events.full(model.time())) break;
+            const auto& sp = springs[s];
             Event ev;
             ev.time = model.time();
             const auto& mesh = model.mesh();
@@ -643,11 +623,10 @@ CrackPattern run_mass_spring(MassSpringModel& model, const FractureOptions& opti
             ev.position = 0.5 * (p[static_cast<std::size_t>(sp.edge)] + p[static_cast<std::size_t>((sp.edge + 1) % 3)]);
             ev.kind = "break";
             ev.ratio = ratio;
-            model.break_spring(static_cast<std::size_t>(s));
+            model.break_spring(s);
             ++stats.breaks;
-            ++run.removals;
             relax();
-            events.push_back(ev);
+            events.add(ev);
             continue;
         }
         if (model.time() >= options.duration) break;
@@ -856,8 +835,8 @@ CrackPattern run_mass_spring(MassSpringModel& model, const FractureOptions& opti
     }
     stats.factorizations = model.factorizations();
     stats.downdates = model.downdates();
-    p.events = std::move(events);
-    p.events_capped = capped;
+    p.events_capped = events.capped();
+    p.events = events.take();
     run.total_seconds = total.seconds();
     if (run_out) *run_out = run;
     if (stats_out) *stats_out = stats;

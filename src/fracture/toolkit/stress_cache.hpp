@@ -3,7 +3,6 @@
 /// affine-in-time solution (shared by the FEM fracture methods).
 
 #include "core/timer.hpp"
-#include "fracture/fem_remove.hpp"
 #include "sim/fem_model.hpp"
 
 #include <algorithm>
@@ -156,108 +155,5 @@ private:
     bool m_all_changed = true;
     std::uint32_t m_stamp = 0;
 };
-
-} // namespace crackle::fracture
-
-namespace crackle::fracture {
-
-/// Hops that cover ln(1/tol)·1.6 mean thicknesses (the decay length of a local change, §5.8).
-inline double initial_radius(const sim::FemModel& model, double tolerance) {
-    double h = 0;
-    for (std::size_t v = 0; v < model.mesh().num_vertices(); ++v)
-        h += model.vertex_thickness(mesh::vertex_id(v));
-    h /= static_cast<double>(std::max<std::size_t>(model.mesh().num_vertices(), 1));
-    const double edge = mesh::mesh_quality(model.mesh()).edge_mean;
-    return std::clamp(std::ceil(1.6 * std::log(1.0 / tolerance) * h / edge), 2.0, 64.0);
-}
-
-/// Moves the model to t along the exact affine solution and the cache with it; only when
-/// shrinkage rebuilt the stiffness does it re-solve and re-evaluate every stress.
-inline void advance_model(sim::FemModel& model, StressCache& cache, double t, RunStats& stats) {
-    Timer timer;
-    const double t0 = model.time();
-    const std::size_t builds = model.stiffness_builds();
-    model.advance_time(t);
-    ++stats.time_steps;
-    stats.stiffness_rebuilds += model.stiffness_builds() - builds;
-    if (model.stiffness_changed()) {
-        stats.solver_iterations += model.relax().iterations + model.solve_rate().iterations;
-        stats.solves += 2;
-        stats.solve_seconds += timer.seconds();
-        timer.reset();
-        cache.refresh_all(); // new B matrices: every stress changes
-    } else {
-        stats.solve_seconds += timer.seconds();
-        timer.reset();
-        cache.advance(t - t0);
-    }
-    stats.stress_seconds += timer.seconds();
-}
-
-/// §5.8.3, after a local relaxation: relaxes globally when the residual left anywhere exceeds
-/// FractureOptions::drift_tolerance of a threshold-level nodal force, and then doubles the
-/// local radius (the thesis' ρ increase). Returns whether it did (every node moved).
-inline bool check_drift(sim::FemModel& model, const FractureOptions& options, double& radius, RunStats& stats) {
-    if (!options.local_relaxation) return false;
-    Timer timer;
-    const bool over = model.max_residual_force() > options.drift_tolerance * model.force_scale();
-    if (over) {
-        stats.solver_iterations += model.relax().iterations;
-        ++stats.solves;
-        ++stats.drift_relaxations;
-        radius = std::min(2.0 * radius, 256.0);
-    }
-    stats.solve_seconds += timer.seconds();
-    return over;
-}
-
-/// Once per time step (§5.8): settles the rate solution around `rate_seeds` (the vertices whose
-/// elements changed since the last step; cleared), then relaxes globally when the local
-/// relaxations have left forces that could shift a stress by 1e-3 of a threshold (the thesis
-/// relaxes globally every time step). Refreshes the cache where needed; times go to `stats`.
-inline void settle_time_step(sim::FemModel& model, StressCache& cache, const FractureOptions& options,
-                             const sim::LocalRelaxOptions& local, double& rate_radius,
-                             std::vector<std::size_t>& rate_seeds, RunStats& stats) {
-    Timer timer;
-    if (!rate_seeds.empty()) {
-        std::sort(rate_seeds.begin(), rate_seeds.end());
-        rate_seeds.erase(std::unique(rate_seeds.begin(), rate_seeds.end()), rate_seeds.end());
-        // Seeds of rolled-back changes may name vertices that no longer exist.
-        while (!rate_seeds.empty() && rate_seeds.back() >= model.mesh().num_vertices())
-            rate_seeds.pop_back();
-        sim::SolveStats s =
-            options.local_relaxation ? model.relax_rate_local(rate_seeds, rate_radius, local) : model.solve_rate();
-        stats.solver_iterations += s.iterations;
-        ++stats.solves;
-        // §5.8.3 for the rate, which Alg. 5's next fracture time rests on.
-        if (options.local_relaxation
-            && model.max_rate_residual_force()
-                   > options.drift_tolerance * model.force_scale() / std::max(options.duration, 1e-300)) {
-            s = model.solve_rate();
-            stats.solver_iterations += s.iterations;
-            ++stats.solves;
-            ++stats.drift_relaxations;
-            rate_radius = std::min(2.0 * rate_radius, 256.0);
-        }
-        stats.solve_seconds += timer.seconds();
-        timer.reset();
-        cache.refresh_around(model.last_updated_vertices(), true);
-        stats.stress_seconds += timer.seconds();
-        rate_seeds.clear();
-    }
-    timer.reset();
-    if (options.local_relaxation && model.max_residual_force() > 1e-3 * model.force_scale()) {
-        stats.solver_iterations += model.relax().iterations + model.solve_rate().iterations;
-        stats.solves += 2;
-        stats.global_cleanups += 1;
-        stats.solve_seconds += timer.seconds();
-        timer.reset();
-        cache.refresh_all();
-        stats.stress_seconds += timer.seconds();
-    } else {
-        stats.solve_seconds += timer.seconds();
-    }
-    if (options.before_time_step) options.before_time_step(model);
-}
 
 } // namespace crackle::fracture

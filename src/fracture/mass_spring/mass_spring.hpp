@@ -9,7 +9,7 @@
 
 #include "core/rng.hpp"
 #include "fracture/crack_pattern.hpp"
-#include "fracture/fem_remove.hpp"
+#include "fracture/run.hpp"
 #include "mesh/sampling.hpp"
 #include "mesh/surface.hpp"
 #include "mesh/surface_mesh.hpp"

@@ -10,8 +10,10 @@
 
 #include "core/rng.hpp"
 #include "fracture/crack_pattern.hpp"
-#include "fracture/fem_remove.hpp"
+#include "fracture/run.hpp"
 #include "sim/fem_model.hpp"
+
+#include <vector>
 
 namespace crackle::fracture {
 
@@ -43,6 +45,21 @@ struct SplitOptions {
     bool check_invariants = false;
 };
 
+/// What element splitting did.
+struct SplitStats {
+    /// New fractures, accepted and rejected (Griffith) tip extensions, cuts moved onto a vertex
+    /// by edge collapse, cuts snapped to a vertex that could not move.
+    std::size_t splits = 0, extensions = 0, arrests = 0, collapses = 0, snaps = 0;
+    std::size_t subdivisions = 0;   ///< bisections around tips and new cracks (§5.7.6, §5.7.7)
+    std::size_t smoothed = 0;       ///< node moves by angle-based smoothing (§5.7.9)
+    std::size_t vm_refinements = 0; ///< bisections by the von Mises indicator (§5.7.7)
+    std::size_t submodels = 0;      ///< temporary tip sub-models (§5.7.8)
+    std::size_t flips = 0;          ///< edge flips of slivers near cuts (§5.7.5)
+    /// Where and when each crack tip stopped (Griffith, Alg. 11), kind "arrest", position the
+    /// tip's reference point, ratio its stress over threshold then.
+    std::vector<Event> arrests_at;
+};
+
 /// The invariants a fem-split model keeps through every topology change: the surface mesh is
 /// valid (conforming, manifold, consistently oriented, adjacency symmetric), every alive
 /// element has a positive reference volume and a positively oriented bottom triangle, and
@@ -53,7 +70,7 @@ std::string check_split_invariants(const sim::FemModel& model);
 /// equally stressed nodes are broken with `rng`. Returns the pattern (cracks are open mesh
 /// edges; every lip is a CrackEdge, its depth the layer thickness).
 CrackPattern run_fem_split(sim::FemModel& model, const FractureOptions& options, const SplitOptions& split, Rng& rng,
-                           RunStats* stats = nullptr);
+                           RunStats* stats = nullptr, SplitStats* split_stats = nullptr);
 
 /// In-surface stress at the top of a node: the average over its elements of each one's stress
 /// at its top Gauss point nearest the node (§5.7.1), projected on the current tangent plane.

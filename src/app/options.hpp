@@ -1,0 +1,32 @@
+#pragma once
+/// @file The preset's keys mapped to the typed options of every stage, in one place (each
+/// fracture method maps its own [simulation] keys in its folder: fracture/method.hpp). A test
+/// checks that every option struct's defaults are the schema's.
+
+#include "fracture/run.hpp"
+#include "io/preset.hpp"
+#include "mesh/surface.hpp"
+#include "post/pieces.hpp"
+#include "render/bake.hpp"
+#include "sim/fem_model.hpp"
+#include "sim/growth_field.hpp"
+#include "sim/property_field.hpp"
+
+#include <string>
+
+namespace crackle::app {
+
+mesh::SurfaceOptions surface_options(const io::Preset& preset);
+sim::GrowthOptions growth_options(const io::Preset& preset);
+/// Reads [variation.<property>]; loads the image of an image pattern (InputError if it cannot).
+sim::VariationOptions variation_options(const io::Preset& preset, const std::string& property);
+
+/// [simulation] keys of the equilibrium solver.
+sim::FemOptions fem_options(const io::Preset& preset);
+/// [simulation] keys of the fracture loop that every method reads.
+fracture::FractureOptions fracture_options(const io::Preset& preset);
+
+post::PostOptions post_options(const io::Preset& preset);
+render::BakeOptions bake_options(const io::Preset& preset);
+
+} // namespace crackle::app

@@ -1,0 +1,80 @@
+#pragma once
+/// @file The fracture stage as one interface: what every method starts from (the grown surface,
+/// its layer, the common loop options), what it returns (the crack-pattern contract, common
+/// counters, its own named details), and the registry the app, the preset schema, `presets
+/// doc`, the bench and the tests read. A method is one folder: its loop, its [simulation] keys,
+/// and the mapping from them to its typed options (its `method_info()`, listed in method.cpp).
+
+#include "core/json.hpp"
+#include "core/settings.hpp"
+#include "core/timer.hpp"
+#include "fracture/crack_pattern.hpp"
+#include "fracture/run.hpp"
+#include "mesh/sampling.hpp"
+#include "mesh/surface.hpp"
+#include "mesh/surface_mesh.hpp"
+#include "sim/fem_model.hpp"
+#include "sim/growth_field.hpp"
+#include "sim/reference_shape.hpp"
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace crackle::fracture {
+
+/// What a method starts from: the scene (references into the caller's, alive for the run).
+struct MethodInputs {
+    const mesh::Surface& surface;
+    const sim::GrowthField& growth;
+    const sim::ShrinkageOptions& shrinkage;
+    sim::LayerFields fields;
+    /// The scene's FEM mesh (§5.2: repelled points, Delaunay) at `elements`, its density as the
+    /// preset asks; appends "sampling" and "triangulation" wall times.
+    std::function<mesh::SurfaceMesh(StepTimes*)> discretize;
+    std::size_t elements = 0;       ///< simulation.elements: the resolution every method follows
+    mesh::SamplingOptions sampling; ///< for methods that place their own points (mass-spring)
+    std::uint64_t seed = 1;         ///< every random draw of the run comes from it
+    FractureOptions options;        ///< the loop keys every method reads
+    sim::FemOptions fem;            ///< the equilibrium solver keys
+};
+
+/// What a method returns.
+struct MethodResult {
+    CrackPattern pattern;
+    RunStats run;
+    std::size_t elements_initial = 0, elements_final = 0, nodes = 0;
+    /// The method's own counters, under the names of the JSON report, in report order.
+    Json details = Json::object();
+    /// One line for `crackle simulate`'s summary: what the method did, in its own terms.
+    std::string summary;
+};
+
+class Method {
+public:
+    virtual ~Method() = default;
+    /// Runs to `inputs.options.duration`; appends the wall times of its steps to `times`.
+    virtual MethodResult run(const MethodInputs& inputs, StepTimes& times) = 0;
+};
+
+struct MethodInfo {
+    std::string name;        ///< simulation.method value: "fem-split"
+    std::string description; ///< a sentence for the schema's reference of simulation.method
+    bool available = true;   ///< false: known, refused with a reason (exit 2)
+    /// Its own [simulation] keys (group = name): the schema lists them under the method.
+    std::vector<KeySpec> keys;
+    /// Maps the settings to its typed options and makes the method.
+    std::function<std::unique_ptr<Method>(const Settings&)> make;
+};
+
+/// Every method, in documentation order.
+const std::vector<MethodInfo>& methods();
+/// The method of that name, or nullptr.
+const MethodInfo* find_method(const std::string& name);
+std::vector<std::string> method_names();
+/// The method the settings name (simulation.method), its options mapped from them. Throws
+/// InputError for an unavailable one (the app checks first, naming the preset line).
+std::unique_ptr<Method> make_method(const Settings& settings);
+
+} // namespace crackle::fracture
