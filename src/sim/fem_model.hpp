@@ -16,11 +16,17 @@
 /// trial time. Shrinkage changes the reference shapes and so K; the stiffness is rebuilt
 /// whenever the shrinkage scale has moved by more than `stiffness_refresh` since the last
 /// build (digest §1.10 [I]).
+///
+/// The implementation is split by responsibility: fem_model.cpp (construction, positions), fem_assembly.cpp,
+/// fem_solver.cpp, fem_local.cpp, fem_time.cpp, fem_stress.cpp, fem_topology.cpp and fem_trial.cpp, sharing
+/// fem_model_internal.hpp.
 
 #include "mesh/refine.hpp"
 #include "mesh/surface.hpp"
 #include "mesh/surface_mesh.hpp"
+#include "sim/fem_options.hpp"
 #include "sim/growth_field.hpp"
+#include "sim/layer_fields.hpp"
 #include "sim/property_field.hpp"
 #include "sim/reference_shape.hpp"
 #include "sim/wedge_element.hpp"
@@ -32,40 +38,6 @@
 #include <vector>
 
 namespace crackle::sim {
-
-enum class SolverKind {
-    Cg,    ///< conjugate gradient, Jacobi preconditioned, warm-started (the thesis' choice)
-    Direct ///< sparse Cholesky (CHOLMOD supernodal), refactorized when K changes
-};
-
-struct FemOptions {
-    SolverKind solver = SolverKind::Cg;
-    double tolerance = 1e-9;    ///< CG: residual norm relative to the load's norm
-    int max_iterations = 20000; ///< CG iterations before a NumericError
-    /// Rebuild K when the shrinkage scale has moved this much since the last build; 0 rebuilds
-    /// it at every change of time (the reference the tolerance is tested against).
-    double stiffness_refresh = 0.01;
-};
-
-/// The layer's physical fields (§5.9), sampled per element (E, threshold, toughness) and per
-/// vertex (thickness).
-struct ElementMaterial {
-    double young_modulus = 0;
-    double threshold_stress = 0;
-    double toughness = 0;
-};
-
-struct LayerFields {
-    const PropertyField* thickness = nullptr;
-    const PropertyField* young_modulus = nullptr;
-    const PropertyField* threshold_stress = nullptr;
-    const PropertyField* toughness = nullptr;
-    double poisson_ratio = 0.3;
-    /// Explicit values instead of the fields (post-processing a finished pattern): thickness per
-    /// vertex (#V) and material per face (#F). Models built this way cannot be subdivided.
-    const std::vector<double>* vertex_thickness = nullptr;
-    const std::vector<ElementMaterial>* face_material = nullptr;
-};
 
 struct SolveStats {
     int iterations = 0;

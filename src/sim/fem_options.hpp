@@ -1,0 +1,21 @@
+#pragma once
+/// @file Options of the wedge-FEM equilibrium solves (Federl 2002, §5.5), a preset's simulation.solver* keys,
+/// without the whole model (sim::FemModel).
+
+namespace crackle::sim {
+
+enum class SolverKind {
+    Cg,    ///< conjugate gradient, Jacobi preconditioned, warm-started (the thesis' choice)
+    Direct ///< sparse Cholesky (CHOLMOD supernodal), refactorized when K changes
+};
+
+struct FemOptions {
+    SolverKind solver = SolverKind::Cg;
+    double tolerance = 1e-9;    ///< CG: residual norm relative to the load's norm
+    int max_iterations = 20000; ///< CG iterations before a NumericError
+    /// Rebuild K when the shrinkage scale has moved this much since the last build; 0 rebuilds
+    /// it at every change of time (the reference the tolerance is tested against).
+    double stiffness_refresh = 0.01;
+};
+
+} // namespace crackle::sim

@@ -1,0 +1,127 @@
+/// @file FemModel trials: undoable changes for fem-split's Griffith test of a tip extension (Federl 2002, Alg. 11).
+#include "core/error.hpp"
+#include "sim/fem_model_internal.hpp"
+
+namespace crackle::sim {
+
+// === Trials (undoable changes)
+
+struct FemModel::Trial {
+    std::size_t faces = 0, vertices = 0;
+    mesh::SurfaceMesh mesh;
+    std::vector<Vec3> normal;
+    std::vector<double> thickness, last_update;
+    Field x, xdot;
+    std::vector<std::size_t> updated;
+    std::vector<std::vector<std::uint32_t>> incident;
+    std::vector<int> alive_degree;
+    std::vector<char> alive;
+    std::size_t num_alive = 0;
+    bool stiffness_dirty = false;
+    // Recorded on first change: existing elements and matrix rows.
+    std::vector<char> element_recorded;
+    std::vector<std::pair<std::size_t, std::pair<ElementMaterial, Eigen::Matrix<double, 9, 18>>>> elements;
+    std::vector<char> row_recorded;
+    std::vector<std::pair<Eigen::Index, std::vector<std::pair<Eigen::Index, double>>>> rows;
+};
+
+FemModel::TrialSlot::TrialSlot() = default;
+FemModel::TrialSlot::TrialSlot(const TrialSlot&) {}
+FemModel::TrialSlot& FemModel::TrialSlot::operator=(const TrialSlot&) {
+    active = false;
+    return *this;
+}
+FemModel::TrialSlot::TrialSlot(TrialSlot&&) noexcept {}
+FemModel::TrialSlot& FemModel::TrialSlot::operator=(TrialSlot&&) noexcept {
+    active = false;
+    return *this;
+}
+FemModel::TrialSlot::~TrialSlot() = default;
+
+void FemModel::begin_trial() {
+    CRACKLE_ASSERT(!m_trial.active, "trials do not nest");
+    if (!m_trial.trial) m_trial.trial = std::make_unique<Trial>();
+    Trial& t = *m_trial.trial;
+    // Copy-assigned into the same buffers every time: no allocation once they are big enough.
+    t.faces = m_mesh.num_faces();
+    t.vertices = m_mesh.num_vertices();
+    t.mesh = m_mesh;
+    t.normal = m_normal;
+    t.thickness = m_thickness;
+    t.last_update = m_last_update;
+    t.x = m_x;
+    t.xdot = m_xdot;
+    t.updated = m_updated;
+    t.incident = m_incident;
+    t.alive_degree = m_alive_degree;
+    t.alive = m_alive;
+    t.num_alive = m_num_alive;
+    t.stiffness_dirty = m_stiffness_dirty_for_x;
+    t.element_recorded.assign(t.faces, 0);
+    t.elements.clear();
+    t.row_recorded.assign(static_cast<std::size_t>(m_K.rows()), 0);
+    t.rows.clear();
+    m_trial.active = true;
+}
+
+void FemModel::record_element(std::size_t f) {
+    if (!m_trial.active) return;
+    Trial& t = *m_trial.trial;
+    if (f >= t.faces || t.element_recorded[f]) return;
+    t.element_recorded[f] = 1;
+    t.elements.push_back({f, {m_material[f], m_k_top[f]}});
+}
+
+void FemModel::record_row(Eigen::Index row) {
+    if (!m_trial.active) return;
+    Trial& t = *m_trial.trial;
+    if (row >= static_cast<Eigen::Index>(t.row_recorded.size()) || t.row_recorded[static_cast<std::size_t>(row)])
+        return;
+    t.row_recorded[static_cast<std::size_t>(row)] = 1;
+    std::vector<std::pair<Eigen::Index, double>> entries;
+    for (SpMatR::InnerIterator it(m_K, row); it; ++it)
+        entries.emplace_back(it.col(), it.value());
+    t.rows.emplace_back(row, std::move(entries));
+}
+
+void FemModel::rollback() {
+    CRACKLE_ASSERT(m_trial.active, "rollback() without begin_trial()");
+    Trial& t = *m_trial.trial;
+    m_mesh = t.mesh;
+    m_normal = t.normal;
+    m_thickness = t.thickness;
+    m_last_update = t.last_update;
+    m_x = t.x;
+    m_xdot = t.xdot;
+    m_updated = t.updated;
+    m_incident = t.incident;
+    m_alive_degree = t.alive_degree;
+    m_alive = t.alive;
+    m_num_alive = t.num_alive;
+    m_stiffness_dirty_for_x = t.stiffness_dirty;
+    m_material.resize(t.faces);
+    m_k_top.resize(t.faces);
+    for (const auto& [f, saved] : t.elements) {
+        m_material[f] = saved.first;
+        m_k_top[f] = saved.second;
+    }
+    // Recorded rows get their old values back; entries added since (the pattern only grows)
+    // go to zero, and rows and columns of new vertices are cut off.
+    for (const auto& [row, entries] : t.rows) {
+        for (SpMatR::InnerIterator it(m_K, row); it; ++it)
+            it.valueRef() = 0.0;
+        for (const auto& [col, value] : entries)
+            set_entry(m_K, row, col, value);
+    }
+    const auto n = static_cast<Eigen::Index>(3 * t.vertices);
+    if (m_K.rows() > n) m_K.conservativeResize(n, n);
+    m_solver->invalidate(true);
+    m_trial.active = false;
+}
+
+void FemModel::commit() {
+    CRACKLE_ASSERT(m_trial.active, "commit() without begin_trial()");
+    m_trial.active = false;
+}
+
+} // namespace crackle::sim
