@@ -124,12 +124,10 @@ PieceMesh build_pieces(const fracture::CrackPattern& p, const PostOptions& o) {
     // === 2. Relaxation under further drying: the wedge FEM on the pieces, bottom glued
     std::vector<Vec3> w(nv, Vec3::Zero());
     if ((o.shrink_top != 0.0 || o.shrink_bottom != 0.0) && topo.mesh.num_faces() > 0) {
+        // Stiffness only: the pieces are relaxed, not cracked (no threshold, no toughness).
         std::vector<sim::ElementMaterial> materials(topo.mesh.num_faces());
-        for (std::size_t f = 0; f < materials.size(); ++f) {
+        for (std::size_t f = 0; f < materials.size(); ++f)
             materials[f].young_modulus = p.young_modulus[topo.source_face[f]];
-            materials[f].threshold_stress = 1.0;
-            materials[f].toughness = 1.0;
-        }
         sim::LayerFields fields;
         fields.poisson_ratio = p.poisson_ratio;
         fields.vertex_thickness = &thickness;

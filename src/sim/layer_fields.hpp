@@ -14,7 +14,7 @@ struct ElementMaterial {
     double young_modulus = 0; ///< E (Pa): sets the element's stiffness; always needed
     /// The fracture material, optional: only the fracture criteria read them (stress_ratio() and the
     /// crack tests), and force_scale() with the local relaxation scaled by it. A model that is only
-    /// relaxed, as post-processing's, may give any value (it passes 1).
+    /// relaxed globally, as post-processing's, leaves them 0 (force_scale() is then 0).
     double threshold_stress = 0; ///< σ₁ at which an element cracks (Pa)
     double toughness = 0;        ///< K_IC of fem-split's Griffith test (Alg. 11): G_IC = (1 − ν²)·K_IC²/E
 };

@@ -1,0 +1,95 @@
+// Typed options and the schema agree: options mapped from a preset that sets nothing equal the
+// structs' own defaults, so code that builds an options struct by hand (tests, the bench) runs
+// what a preset would.
+#include "app/options.hpp"
+#include "fracture/method.hpp"
+#include "io/preset.hpp"
+
+#include <doctest/doctest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+
+using namespace crackle;
+
+namespace {
+
+/// A preset that sets no key: every value is the schema's default.
+io::Preset defaults() {
+    const char* dir = std::getenv("CRACKLE_TEST_OUTPUT");
+    const std::filesystem::path folder = std::filesystem::path(dir ? dir : "/tmp") / "options";
+    std::filesystem::create_directories(folder);
+    const std::filesystem::path file = folder / "defaults.toml";
+    std::ofstream(file) << "# sets nothing\n";
+    io::PresetRequest r;
+    r.name_or_path = file.string();
+    return io::load_preset(r);
+}
+
+} // namespace
+
+TEST_SUITE("app") {
+    TEST_CASE("options: every options struct's defaults are the schema's") {
+        const io::Preset p = defaults();
+
+        const fracture::FractureOptions fracture = app::fracture_options(p);
+        CHECK(fracture == fracture::FractureOptions{});
+
+        const sim::FemOptions fem = app::fem_options(p), fem_default;
+        CHECK(fem.solver == fem_default.solver);
+        CHECK(fem.tolerance == fem_default.tolerance);
+        CHECK(fem.max_iterations == fem_default.max_iterations);
+        CHECK(fem.stiffness_refresh == fem_default.stiffness_refresh);
+
+        const mesh::SurfaceOptions surface = app::surface_options(p), surface_default;
+        CHECK(surface.kind == surface_default.kind);
+        CHECK(surface.size == surface_default.size);
+
+        const sim::GrowthOptions growth = app::growth_options(p), growth_default;
+        CHECK(growth.kind == growth_default.kind);
+        CHECK(growth.r1 == growth_default.r1);
+        CHECK(growth.r2 == growth_default.r2);
+        CHECK(growth.angle_deg == growth_default.angle_deg);
+
+        const post::PostOptions post = app::post_options(p), post_default;
+        CHECK(post.curl == post_default.curl);
+        CHECK(post.curl_width == post_default.curl_width);
+        CHECK(post.shrink_top == post_default.shrink_top);
+        CHECK(post.shrink_bottom == post_default.shrink_bottom);
+        CHECK(post.bevel == post_default.bevel);
+
+        const render::BakeOptions bake = app::bake_options(p), bake_default;
+        CHECK(bake.size == bake_default.size);
+        CHECK(bake.samples == bake_default.samples);
+        CHECK((bake.color - bake_default.color).norm() < 1e-4); // sRGB in the schema, linear here
+        CHECK((bake.crack_color - bake_default.crack_color).norm() < 1e-4);
+        CHECK(bake.color_variation == bake_default.color_variation);
+        CHECK(bake.grain == bake_default.grain);
+        CHECK(bake.grain_size == bake_default.grain_size);
+        CHECK(bake.grain_stretch == bake_default.grain_stretch);
+        CHECK(bake.roughness == bake_default.roughness);
+        CHECK(bake.roughness_variation == bake_default.roughness_variation);
+        CHECK(bake.ao_radius == bake_default.ao_radius);
+        CHECK(bake.ao_strength == bake_default.ao_strength);
+        CHECK(bake.seed == bake_default.seed);
+    }
+
+    TEST_CASE("options: every method's keys are in the schema, under the method, and every method can be made") {
+        const io::Preset p = defaults();
+        for (const fracture::MethodInfo& m : fracture::methods()) {
+            CAPTURE(m.name);
+            for (const KeySpec& k : m.keys) {
+                CAPTURE(k.name());
+                const KeySpec* spec = io::find_key(k.name());
+                REQUIRE(spec != nullptr);
+                CHECK(spec->group == m.name);
+            }
+            CHECK(m.available == bool(m.make));
+        }
+        const KeySpec* method = io::find_key("simulation.method");
+        REQUIRE(method != nullptr);
+        CHECK(method->choices == fracture::method_names());
+        CHECK(fracture::make_method(p) != nullptr); // the default method
+    }
+}
