@@ -109,13 +109,11 @@ std::vector<KeySpec> build_schema() {
     s.push_back(choice("simulation", "solver", "cg", {"cg", "direct"},
                        "Equilibrium solver: cg = conjugate gradient warm-started from the last solution (the "
                        "default, fastest per crack event); direct = sparse Cholesky (CHOLMOD)."));
-    s.push_back(
-        number("simulation", "solver_tolerance", 1e-9, "", 1e-14, 1e-3,
-               "CG residual relative to the growth/shrinkage load (mass-spring: largest nodal force relative to "
-               "a typical spring's break force). Looser = faster, less exact stresses."));
+    s.push_back(number("simulation", "solver_tolerance", 1e-9, "", 1e-14, 1e-3,
+                       "FEM methods: CG residual relative to the growth/shrinkage load. Looser = faster, less exact "
+                       "stresses."));
     s.push_back(integer("simulation", "solver_max_iterations", 20000, "", 1, 1.0e7,
-                        "CG iterations (mass-spring: Newton iterations of one relaxation, at most 1000) before the run "
-                        "fails with exit code 3."));
+                        "FEM methods: CG iterations before the run fails with exit code 3."));
     s.push_back(integer("simulation", "max_events", 1000000, "", 1, 1.0e8,
                         "Stop after this many fracture events (a safety net; the report says when it was hit)."));
     s.push_back(choice("simulation", "relaxation", "local", {"local", "global"},

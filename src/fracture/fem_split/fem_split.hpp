@@ -9,6 +9,7 @@
 /// time jumps to the next fracture (Alg. 5).
 
 #include "core/rng.hpp"
+#include "core/settings.hpp"
 #include "fracture/crack_pattern.hpp"
 #include "fracture/run.hpp"
 #include "sim/fem_model.hpp"
@@ -59,6 +60,9 @@ struct SplitStats {
     /// tip's reference point, ratio its stress over threshold then.
     std::vector<Event> arrests_at;
 };
+
+/// The options from the method's [simulation] keys.
+SplitOptions split_options(const Settings& settings);
 
 /// The invariants a fem-split model keeps through every topology change: the surface mesh is
 /// valid (conforming, manifold, consistently oriented, adjacency symmetric), every alive

@@ -5,9 +5,6 @@
 
 namespace crackle::fracture {
 
-namespace {
-
-/// SplitOptions from the method's keys.
 SplitOptions split_options(const Settings& s) {
     SplitOptions o;
     o.min_angle_deg = s.number("simulation.min_angle");
@@ -19,6 +16,8 @@ SplitOptions split_options(const Settings& s) {
     o.check_invariants = s.flag("simulation.check_invariants");
     return o;
 }
+
+namespace {
 
 class FemSplit : public Method {
 public:

@@ -8,13 +8,14 @@
 /// lattice (Fig. 4.5), and on a random lattice the pattern depends on resolution (Fig. 4.9).
 
 #include "core/rng.hpp"
+#include "core/settings.hpp"
 #include "fracture/crack_pattern.hpp"
 #include "fracture/run.hpp"
 #include "mesh/sampling.hpp"
 #include "mesh/surface.hpp"
 #include "mesh/surface_mesh.hpp"
-#include "sim/fem_model.hpp"
 #include "sim/growth_field.hpp"
+#include "sim/layer_fields.hpp"
 #include "sim/reference_shape.hpp"
 
 #include <cstdint>
@@ -30,11 +31,11 @@ enum class Lattice {
 
 struct MassSpringOptions {
     Lattice lattice = Lattice::Random;
-    int layers = 1;            ///< stacked material layers (§4.3); only the bottom one is anchored
-    double anchor_slide = 0.5; ///< maximum anchor length / mean spring length; 0 = never slides
-    double break_jitter = 0.0; ///< break strains perturbed uniformly by ±jitter (relative)
-    double tolerance = 1e-8;   ///< Newton: largest nodal force / (k·L·ε_b) of a typical spring
-    int max_newton_iterations = 100;
+    int layers = 1;                  ///< stacked material layers (§4.3); only the bottom one is anchored
+    double anchor_slide = 0.5;       ///< maximum anchor length / mean spring length; 0 = never slides
+    double break_jitter = 0.0;       ///< break strains perturbed uniformly by ±jitter (relative)
+    double tolerance = 1e-8;         ///< Newton: largest nodal force / (k·L·ε_b) of a typical spring
+    int max_newton_iterations = 100; ///< per relaxation
 };
 
 /// Per-run statistics particular to mass–spring.
@@ -134,7 +135,9 @@ private:
     Eigen::VectorXd solve_stiffness(const Eigen::VectorXd& b);
     /// out = H v with H the projected Hessian at the current positions.
     void hessian_times(const Eigen::VectorXd& v, double t, Eigen::VectorXd& out) const;
-    bool slide_anchors();
+    /// Slides the anchors stretched past the allowed length by more than `force_tolerance` can
+    /// tell (§4.1); true if any moved.
+    bool slide_anchors(double force_tolerance);
 
     mesh::SurfaceMesh m_mesh;
     mesh::Surface m_surface;
@@ -159,6 +162,10 @@ private:
 /// Builds the model's starting mesh: repelled points or a regular lattice, triangulated.
 mesh::SurfaceMesh mass_spring_mesh(const mesh::Surface& surface, std::size_t masses, Lattice lattice,
                                    const mesh::SamplingOptions& sampling, Rng& rng);
+
+/// The model's options from its [simulation] keys (and the shared solver keys, in their
+/// mass-spring meaning).
+MassSpringOptions mass_spring_options(const Settings& settings);
 
 /// Runs the mass–spring model to `options.duration`; the pattern's pieces are the masses'
 /// (Voronoi) cells, split along broken top-layer springs.

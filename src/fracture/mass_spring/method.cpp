@@ -8,21 +8,18 @@
 
 namespace crackle::fracture {
 
-namespace {
-
-/// MassSpringOptions from the method's keys and the shared solver keys (their mass-spring
-/// meaning: the Newton tolerance on the largest nodal force, and at most 1000 iterations).
 MassSpringOptions mass_spring_options(const Settings& s) {
     MassSpringOptions o;
     o.lattice = s.text("simulation.lattice") == "regular" ? Lattice::Regular : Lattice::Random;
     o.layers = static_cast<int>(s.integer("simulation.layers"));
     o.anchor_slide = s.number("simulation.anchor_slide");
     o.break_jitter = s.number("simulation.break_jitter");
-    o.tolerance = s.number("simulation.solver_tolerance");
-    o.max_newton_iterations =
-        static_cast<int>(std::min<std::int64_t>(s.integer("simulation.solver_max_iterations"), 1000));
+    o.tolerance = s.number("simulation.newton_tolerance");
+    o.max_newton_iterations = static_cast<int>(s.integer("simulation.newton_iterations"));
     return o;
 }
+
+namespace {
 
 class MassSpring : public Method {
 public:
@@ -96,6 +93,12 @@ std::vector<KeySpec> mass_spring_keys() {
     s.push_back(number("simulation", "break_jitter", 0.0, "", 0.0, 0.9,
                        "mass-spring only: break strains perturbed uniformly by ± this fraction (Fig. 4.6 right): "
                        "weakens the lattice's preferred crack directions."));
+    s.push_back(number("simulation", "newton_tolerance", 1e-8, "", 1e-14, 1e-3,
+                       "mass-spring only: the nonlinear equilibrium (Newton) stops when the largest nodal force is "
+                       "below this share of a typical spring's break force. Looser = faster, less exact."));
+    s.push_back(integer("simulation", "newton_iterations", 100, "", 1, 10000,
+                        "mass-spring only: Newton iterations of one relaxation before the run fails with exit code "
+                        "3."));
     return s;
 }
 

@@ -169,7 +169,7 @@ double MassSpringModel::max_force() const {
     return worst;
 }
 
-bool MassSpringModel::slide_anchors() {
+bool MassSpringModel::slide_anchors(double force_tolerance) {
     if (m_options.anchor_slide <= 0) return false;
     const double max_len = m_options.anchor_slide * m_mean_spring;
     const Mat3 G_inv = (Mat3::Identity() + m_time * m_growth.tensor()).inverse();
@@ -177,7 +177,9 @@ bool MassSpringModel::slide_anchors() {
     for (std::size_t v = 0; v < num_vertices(); ++v) {
         const Vec3 a = anchor(v, m_time);
         const Vec3 d = m_x[v] - a;
-        if (d.norm() <= max_len * (1 + 1e-9)) continue;
+        // A slide shorter than what the relaxation's force tolerance resolves is noise: chasing
+        // it would repeat relaxations without end.
+        if (d.norm() <= max_len + std::max(1e-9 * max_len, force_tolerance / m_anchor_k[v])) continue;
         // Drag the anchor so the anchor spring is max_len long (§4.1); store it pulled back.
         const Vec3 moved = m_x[v] - max_len * d.normalized();
         m_anchor0[v] = G_inv * moved;
@@ -208,7 +210,7 @@ void MassSpringModel::relax(MassSpringStats* stats) {
                 os << "mass-spring relaxation did not converge: " << it << " Newton iterations, largest force "
                    << residual << " N (wanted " << tol << " N) at t = " << m_time
                    << "; the time step or the strains are too large for the springs (raise "
-                      "simulation.solver_max_iterations or lower the growth or shrinkage rates)";
+                      "simulation.newton_iterations or lower the growth or shrinkage rates)";
                 throw NumericError(os.str());
             }
             // Refactor when the contraction is poor: the frozen directions drifted too far.
@@ -232,7 +234,7 @@ void MassSpringModel::relax(MassSpringStats* stats) {
             if (stats) ++stats->newton_iterations;
         }
         if (stats) ++stats->newton_solves;
-        if (!slide_anchors()) return;
+        if (!slide_anchors(tol)) return;
         if (stats) ++stats->slides;
     }
     throw NumericError("mass-spring anchors kept sliding after 50 relaxations at t = " + std::to_string(m_time));

@@ -231,7 +231,7 @@ TEST_SUITE("app") {
 
     TEST_CASE("cli: a mass-spring relaxation that cannot converge exits with code 3 and reports its numbers") {
         const auto r = run_cli({"simulate", "mud", "--set", "simulation.method=mass-spring", "--set",
-                                "simulation.elements=300", "--set", "simulation.solver_max_iterations=1"});
+                                "simulation.elements=300", "--set", "simulation.newton_iterations=1"});
         CHECK(r.code == 3);
         CHECK(contains(r.err, "Newton iterations"));
         CHECK(contains(r.err, "largest force"));

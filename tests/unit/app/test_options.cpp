@@ -2,6 +2,8 @@
 // structs' own defaults, so code that builds an options struct by hand (tests, the bench) runs
 // what a preset would.
 #include "app/options.hpp"
+#include "fracture/fem_split/fem_split.hpp"
+#include "fracture/mass_spring/mass_spring.hpp"
 #include "fracture/method.hpp"
 #include "io/preset.hpp"
 
@@ -73,6 +75,25 @@ TEST_SUITE("app") {
         CHECK(bake.ao_radius == bake_default.ao_radius);
         CHECK(bake.ao_strength == bake_default.ao_strength);
         CHECK(bake.seed == bake_default.seed);
+
+        // The methods' own options (mapped in their folders).
+        const fracture::SplitOptions split = fracture::split_options(p), split_default;
+        CHECK(split.snap_fraction == split_default.snap_fraction);
+        CHECK(split.min_angle_deg == split_default.min_angle_deg);
+        CHECK(split.exclusion_radius == split_default.exclusion_radius);
+        CHECK(split.griffith == split_default.griffith);
+        CHECK(split.smoothing_radius == split_default.smoothing_radius);
+        CHECK(split.vm_threshold == split_default.vm_threshold);
+        CHECK(split.tip_submodel_levels == split_default.tip_submodel_levels);
+        CHECK(split.check_invariants == split_default.check_invariants);
+
+        const fracture::MassSpringOptions springs = fracture::mass_spring_options(p), springs_default;
+        CHECK(springs.lattice == springs_default.lattice);
+        CHECK(springs.layers == springs_default.layers);
+        CHECK(springs.anchor_slide == springs_default.anchor_slide);
+        CHECK(springs.break_jitter == springs_default.break_jitter);
+        CHECK(springs.tolerance == springs_default.tolerance);
+        CHECK(springs.max_newton_iterations == springs_default.max_newton_iterations);
     }
 
     TEST_CASE("options: every method's keys are in the schema, under the method, and every method can be made") {
