@@ -3,6 +3,7 @@
 
 #include "core/log.hpp"
 #include "fracture/fem_remove/fem_remove.hpp"
+#include "fracture/toolkit/fem_method.hpp"
 
 namespace crackle::fracture {
 
@@ -11,36 +12,23 @@ namespace {
 class FemRemove : public Method {
 public:
     MethodResult run(const MethodInputs& in, StepTimes& times) override {
-        MethodResult r;
-        mesh::SurfaceMesh surface_mesh = in.discretize(&times);
-        r.elements_initial = surface_mesh.num_faces();
-        // Element removal takes out whole elements: on elements much wider than the layer is
-        // thick, most of the layer goes (thesis Fig. 5.11, failure mode F6).
-        const double edge = mesh::mesh_quality(surface_mesh).edge_mean;
-        const double h = 0.5 * (in.fields.thickness->min_value() + in.fields.thickness->max_value());
-        if (edge > 1.5 * h && in.options.min_element_size == 0.0)
-            log::warn("elements (", edge * 100, " cm) are much wider than the layer is thick (", h * 100,
-                      " cm): element removal will take out most of the layer; raise simulation.elements or set "
-                      "simulation.min_element_size");
-        Timer step;
-        sim::FemModel model(std::move(surface_mesh), in.surface, in.growth, in.shrinkage, in.fields, in.fem);
-        times.emplace_back("assembly", step.seconds());
-        step.reset();
-        Rng rng(in.seed, RngStream::Fracture);
-        RemovalStats removal;
-        r.pattern = run_fem_remove(model, in.options, rng, &r.run, &removal);
-        times.emplace_back("fracture", step.seconds());
-        times.emplace_back("fracture.solve", r.run.solve_seconds);
-        times.emplace_back("fracture.stress", r.run.stress_seconds);
-        times.emplace_back("fracture.topology", r.run.topology_seconds);
-        r.elements_final = model.num_alive();
-        r.nodes = 2 * model.mesh().num_vertices();
-        r.details["removals"] = removal.removals;
-        r.details["subdivisions"] = removal.subdivisions;
-        r.summary = "elements     " + std::to_string(r.elements_initial) + " initial, "
-                    + std::to_string(r.elements_final) + " intact at the end (" + std::to_string(removal.removals)
-                    + " removed, " + std::to_string(removal.subdivisions) + " subdivisions)";
-        return r;
+        return run_on_wedge_layer(in, times, [&](sim::FemModel& model, Rng& rng, MethodResult& r) {
+            // Element removal takes out whole elements: on elements much wider than the layer is
+            // thick, most of the layer goes (thesis Fig. 5.11, failure mode F6).
+            const double edge = mesh::mesh_quality(model.mesh()).edge_mean;
+            const double h = 0.5 * (in.fields.thickness->min_value() + in.fields.thickness->max_value());
+            if (edge > 1.5 * h && in.options.min_element_size == 0.0)
+                log::warn("elements (", edge * 100, " cm) are much wider than the layer is thick (", h * 100,
+                          " cm): element removal will take out most of the layer; raise simulation.elements or "
+                          "set simulation.min_element_size");
+            RemovalStats removal;
+            r.pattern = run_fem_remove(model, in.options, rng, &r.run, &removal);
+            r.details["removals"] = removal.removals;
+            r.details["subdivisions"] = removal.subdivisions;
+            r.summary = "elements     " + std::to_string(r.elements_initial) + " initial, "
+                        + std::to_string(model.num_alive()) + " intact at the end (" + std::to_string(removal.removals)
+                        + " removed, " + std::to_string(removal.subdivisions) + " subdivisions)";
+        });
     }
 };
 

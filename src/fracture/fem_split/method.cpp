@@ -2,6 +2,7 @@
 #include "fracture/method.hpp"
 
 #include "fracture/fem_split/fem_split.hpp"
+#include "fracture/toolkit/fem_method.hpp"
 
 namespace crackle::fracture {
 
@@ -24,41 +25,28 @@ public:
     explicit FemSplit(SplitOptions options) : m_options(options) {}
 
     MethodResult run(const MethodInputs& in, StepTimes& times) override {
-        MethodResult r;
-        mesh::SurfaceMesh surface_mesh = in.discretize(&times);
-        r.elements_initial = surface_mesh.num_faces();
-        Timer step;
-        sim::FemModel model(std::move(surface_mesh), in.surface, in.growth, in.shrinkage, in.fields, in.fem);
-        times.emplace_back("assembly", step.seconds());
-        step.reset();
-        Rng rng(in.seed, RngStream::Fracture);
-        SplitStats c;
-        r.pattern = run_fem_split(model, in.options, m_options, rng, &r.run, &c);
-        times.emplace_back("fracture", step.seconds());
-        times.emplace_back("fracture.solve", r.run.solve_seconds);
-        times.emplace_back("fracture.stress", r.run.stress_seconds);
-        times.emplace_back("fracture.topology", r.run.topology_seconds);
-        r.elements_final = model.num_alive();
-        r.nodes = 2 * model.mesh().num_vertices();
-        Json& d = r.details;
-        d["removals"] = 0;
-        d["subdivisions"] = c.subdivisions;
-        d["splits"] = c.splits;
-        d["tip_extensions"] = c.extensions;
-        d["tip_arrests"] = c.arrests;
-        d["edge_collapses"] = c.collapses;
-        d["snapped_cuts"] = c.snaps;
-        d["smoothing_moves"] = c.smoothed;
-        d["von_mises_refinements"] = c.vm_refinements;
-        d["tip_submodels"] = c.submodels;
-        d["edge_flips"] = c.flips;
-        r.summary = "elements     " + std::to_string(r.elements_initial) + " initial, "
-                    + std::to_string(r.elements_final) + " at the end; " + std::to_string(c.splits) + " new cracks, "
-                    + std::to_string(c.extensions) + " tip extensions, " + std::to_string(c.arrests)
-                    + " arrests (Griffith); " + std::to_string(c.collapses) + " edge collapses, "
-                    + std::to_string(c.snaps) + " snapped cuts, " + std::to_string(c.flips) + " flips, "
-                    + std::to_string(c.smoothed) + " smoothing moves";
-        return r;
+        return run_on_wedge_layer(in, times, [&](sim::FemModel& model, Rng& rng, MethodResult& r) {
+            SplitStats c;
+            r.pattern = run_fem_split(model, in.options, m_options, rng, &r.run, &c);
+            Json& d = r.details;
+            d["removals"] = 0;
+            d["subdivisions"] = c.subdivisions;
+            d["splits"] = c.splits;
+            d["tip_extensions"] = c.extensions;
+            d["tip_arrests"] = c.arrests;
+            d["edge_collapses"] = c.collapses;
+            d["snapped_cuts"] = c.snaps;
+            d["smoothing_moves"] = c.smoothed;
+            d["von_mises_refinements"] = c.vm_refinements;
+            d["tip_submodels"] = c.submodels;
+            d["edge_flips"] = c.flips;
+            r.summary = "elements     " + std::to_string(r.elements_initial) + " initial, "
+                        + std::to_string(model.num_alive()) + " at the end; " + std::to_string(c.splits)
+                        + " new cracks, " + std::to_string(c.extensions) + " tip extensions, "
+                        + std::to_string(c.arrests) + " arrests (Griffith); " + std::to_string(c.collapses)
+                        + " edge collapses, " + std::to_string(c.snaps) + " snapped cuts, " + std::to_string(c.flips)
+                        + " flips, " + std::to_string(c.smoothed) + " smoothing moves";
+        });
     }
 
 private:
