@@ -237,6 +237,8 @@ private:
     wedge::Nodes reference_nodes_at(std::size_t f, double s_top, double s_bot) const;
     wedge::Vec18 displacement(std::size_t f) const;
     wedge::Vec18 displacement_rate(std::size_t f) const;
+    /// σ at the top Gauss points of element f for nodal displacements q (or their rates).
+    TopStress top_stress_of(std::size_t f, const wedge::Vec18& q) const;
     /// K_e,top·q (positions) or K_e,top·q̇ (rates): the element's forces on its top nodes.
     Eigen::Matrix<double, 9, 1> element_force(std::size_t f, Unknown u) const;
     Eigen::VectorXd full_residual(Unknown u) const;

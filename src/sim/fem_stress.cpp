@@ -8,12 +8,10 @@ namespace crackle::sim {
 
 // === Stress
 
-TopStress FemModel::top_stress(FaceId f) const {
-    const std::size_t fi = ix(f);
+TopStress FemModel::top_stress_of(std::size_t f, const wedge::Vec18& q) const {
     // B from the reference shape the stiffness was built with, so σ is consistent with K.
-    const wedge::Nodes ref = reference_nodes_at(fi, m_stiffness_s_top, m_stiffness_s_bot);
-    const wedge::Mat6 D = wedge::elasticity(m_material[fi].young_modulus, m_fields.poisson_ratio);
-    const wedge::Vec18 q = displacement(fi);
+    const wedge::Nodes ref = reference_nodes_at(f, m_stiffness_s_top, m_stiffness_s_bot);
+    const wedge::Mat6 D = wedge::elasticity(m_material[f].young_modulus, m_fields.poisson_ratio);
     TopStress s;
     for (std::size_t k = 0; k < 3; ++k) {
         const auto& g = wedge::quadrature()[static_cast<std::size_t>(wedge::TOP_GAUSS_POINTS[k])];
@@ -22,17 +20,12 @@ TopStress FemModel::top_stress(FaceId f) const {
     return s;
 }
 
+TopStress FemModel::top_stress(FaceId f) const {
+    return top_stress_of(ix(f), displacement(ix(f)));
+}
+
 TopStress FemModel::top_stress_rate(FaceId f) const {
-    const std::size_t fi = ix(f);
-    const wedge::Nodes ref = reference_nodes_at(fi, m_stiffness_s_top, m_stiffness_s_bot);
-    const wedge::Mat6 D = wedge::elasticity(m_material[fi].young_modulus, m_fields.poisson_ratio);
-    const wedge::Vec18 q_dot = displacement_rate(fi);
-    TopStress s;
-    for (std::size_t k = 0; k < 3; ++k) {
-        const auto& g = wedge::quadrature()[static_cast<std::size_t>(wedge::TOP_GAUSS_POINTS[k])];
-        s[k] = wedge::stress(ref, D, q_dot, g.xi, g.eta, g.zeta);
-    }
-    return s;
+    return top_stress_of(ix(f), displacement_rate(ix(f)));
 }
 
 double FemModel::stress_ratio(FaceId f) const {
