@@ -8,18 +8,7 @@ namespace crackle::fracture {
 MethodInfo fem_split_method();
 MethodInfo fem_remove_method();
 MethodInfo mass_spring_method();
-
-namespace {
-
-MethodInfo graph_fem_method() {
-    MethodInfo info;
-    info.name = "graph-fem";
-    info.description = "graph-fem (remeshing-free; not available yet)";
-    info.available = false;
-    return info;
-}
-
-} // namespace
+MethodInfo graph_fem_method();
 
 const std::vector<MethodInfo>& methods() {
     static const std::vector<MethodInfo> all = [] {

@@ -28,6 +28,7 @@ FemModel::FemModel(mesh::SurfaceMesh mesh, const mesh::Surface& surface, const G
     m_alive.assign(nf, 1);
     m_num_alive = nf;
     m_material.resize(nf);
+    m_broken.assign(nf, 0);
     m_k_top.resize(nf);
     for (std::size_t f = 0; f < nf; ++f)
         init_element(f);
@@ -87,6 +88,7 @@ void FemModel::init_element(std::size_t f) {
     record_element(f);
     const FaceId id = face_id(f);
     ElementMaterial& mat = m_material[f];
+    m_broken[f] = 0;
     if (m_fields.face_material) {
         mat = (*m_fields.face_material)[f];
         build_element_stiffness(f);
@@ -100,7 +102,7 @@ void FemModel::init_element(std::size_t f) {
 
 void FemModel::build_element_stiffness(std::size_t f) {
     const wedge::Nodes q = reference_nodes_at(f, m_stiffness_s_top, m_stiffness_s_bot);
-    const wedge::Mat18 K = wedge::stiffness(q, m_material[f].young_modulus, m_fields.poisson_ratio);
+    const wedge::Mat18 K = wedge::stiffness(q, element_elasticity(face_id(f)));
     m_k_top[f] = K.bottomRows<9>();
 }
 

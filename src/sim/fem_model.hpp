@@ -192,6 +192,18 @@ public:
     void rollback();
     /// Keeps the changes since begin_trial().
     void commit();
+    // === Edge damage (graph-fem; digest §1.6–1.7, §7)
+    /// Broken-edge bits of an element (bit k: edge k, corner k → k + 1); 0 unless graph-fem
+    /// broke them. Topology edits (split, cut, subdivide) start their elements intact.
+    unsigned broken_edges(mesh::FaceId f) const { return m_broken[mesh::ix(f)]; }
+    /// Breaks graph edges, one side (face, edge) each: the bit is set on both faces sharing the
+    /// edge, their stiffness is rebuilt with the edge-damaged material (wedge::edge_projector)
+    /// and the rows of K around them are updated in place: the unknowns and the nonzeros stay
+    /// as they are. Undone by rollback().
+    void break_edges(const std::vector<std::pair<mesh::FaceId, int>>& sides);
+    /// The element's material matrix: D, or ΠᵀDΠ with broken edges (stiffness and stress use it).
+    wedge::Mat6 element_elasticity(mesh::FaceId f) const;
+
     /// Longest edge of the element's bottom triangle at t = 0 (m).
     double element_size(mesh::FaceId f) const;
 
@@ -290,6 +302,7 @@ private:
     std::vector<char> m_alive;
     std::size_t m_num_alive = 0;
     std::vector<ElementMaterial> m_material;
+    std::vector<std::uint8_t> m_broken;                // graph-fem's broken-edge bits
     std::vector<Eigen::Matrix<double, 9, 18>> m_k_top; // rows of K_e for the top nodes
 
     Eigen::SparseMatrix<double, Eigen::RowMajor> m_K;

@@ -11,7 +11,7 @@ namespace crackle::sim {
 TopStress FemModel::top_stress_of(std::size_t f, const wedge::Vec18& q) const {
     // B from the reference shape the stiffness was built with, so σ is consistent with K.
     const wedge::Nodes ref = reference_nodes_at(f, m_stiffness_s_top, m_stiffness_s_bot);
-    const wedge::Mat6 D = wedge::elasticity(m_material[f].young_modulus, m_fields.poisson_ratio);
+    const wedge::Mat6 D = element_elasticity(face_id(f));
     TopStress s;
     for (std::size_t k = 0; k < 3; ++k) {
         const auto& g = wedge::quadrature()[static_cast<std::size_t>(wedge::TOP_GAUSS_POINTS[k])];
@@ -41,7 +41,7 @@ double FemModel::strain_energy() const {
         if (!m_alive[f]) continue;
         const wedge::Nodes ref = reference_nodes_at(f, m_stiffness_s_top, m_stiffness_s_bot);
         const wedge::Vec18 q = displacement(f);
-        e += 0.5 * q.dot(wedge::stiffness(ref, m_material[f].young_modulus, m_fields.poisson_ratio) * q);
+        e += 0.5 * q.dot(wedge::stiffness(ref, element_elasticity(face_id(f))) * q);
     }
     return e;
 }
@@ -53,7 +53,7 @@ double FemModel::strain_energy(const std::vector<FaceId>& faces) const {
         if (!m_alive[fi]) continue;
         const wedge::Nodes ref = reference_nodes_at(fi, m_stiffness_s_top, m_stiffness_s_bot);
         const wedge::Vec18 q = displacement(fi);
-        e += 0.5 * q.dot(wedge::stiffness(ref, m_material[fi].young_modulus, m_fields.poisson_ratio) * q);
+        e += 0.5 * q.dot(wedge::stiffness(ref, element_elasticity(f)) * q);
     }
     return e;
 }

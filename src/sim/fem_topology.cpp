@@ -171,6 +171,7 @@ std::vector<FaceId> FemModel::adopt_splits(const std::vector<mesh::EdgeSplit>& s
             m_alive.push_back(status);
             if (status) ++m_num_alive;
             m_material.emplace_back();
+            m_broken.push_back(0);
             m_k_top.emplace_back();
             touched.push_back(kid);
             touched.push_back(nid);

@@ -16,6 +16,7 @@ struct FemModel::Trial {
     std::vector<std::vector<std::uint32_t>> incident;
     std::vector<int> alive_degree;
     std::vector<char> alive;
+    std::vector<std::uint8_t> broken;
     std::size_t num_alive = 0;
     bool stiffness_dirty = false;
     // Recorded on first change: existing elements and matrix rows.
@@ -55,6 +56,7 @@ void FemModel::begin_trial() {
     t.incident = m_incident;
     t.alive_degree = m_alive_degree;
     t.alive = m_alive;
+    t.broken = m_broken;
     t.num_alive = m_num_alive;
     t.stiffness_dirty = m_stiffness_dirty_for_x;
     t.element_recorded.assign(t.faces, 0);
@@ -97,6 +99,7 @@ void FemModel::rollback() {
     m_incident = t.incident;
     m_alive_degree = t.alive_degree;
     m_alive = t.alive;
+    m_broken = t.broken;
     m_num_alive = t.num_alive;
     m_stiffness_dirty_for_x = t.stiffness_dirty;
     m_material.resize(t.faces);

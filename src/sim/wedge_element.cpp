@@ -87,7 +87,10 @@ Mat6 elasticity(double E, double nu) {
 }
 
 Mat18 stiffness(const Nodes& nodes, double young, double poisson) {
-    const Mat6 D = elasticity(young, poisson);
+    return stiffness(nodes, elasticity(young, poisson));
+}
+
+Mat18 stiffness(const Nodes& nodes, const Mat6& D) {
     Mat18 K = Mat18::Zero();
     for (const GaussPoint& g : quadrature()) {
         double det = 0;
@@ -121,6 +124,94 @@ Principal max_principal(const Vec6& s) {
     Eigen::SelfAdjointEigenSolver<Mat3> eig;
     eig.computeDirect(tensor(s));
     return {eig.eigenvalues()[2], eig.eigenvectors().col(2)};
+}
+
+// === Edge damage
+
+namespace {
+
+/// Engineering-strain Voigt vector ↔ symmetric tensor.
+Mat3 strain_tensor(const Vec6& e) {
+    Mat3 t;
+    t << e[0], 0.5 * e[5], 0.5 * e[4], //
+        0.5 * e[5], e[1], 0.5 * e[3],  //
+        0.5 * e[4], 0.5 * e[3], e[2];
+    return t;
+}
+
+Vec6 strain_voigt(const Mat3& t) {
+    Vec6 e;
+    e << t(0, 0), t(1, 1), t(2, 2), 2 * t(1, 2), 2 * t(2, 0), 2 * t(0, 1);
+    return e;
+}
+
+/// The element's tangent frame (columns e₁, e₂, n; e₁ along edge 0) and T, the in-plane edge
+/// strains from (εxx, εyy, γxy) in that frame.
+struct InPlane {
+    Mat3 R;
+    Mat3 T;
+};
+
+InPlane in_plane(const Nodes& nodes) {
+    const EdgeFrame f = edge_frame(nodes);
+    InPlane p;
+    const Vec3 e1 = f.edge[0], e2 = f.normal.cross(e1);
+    p.R.col(0) = e1;
+    p.R.col(1) = e2;
+    p.R.col(2) = f.normal;
+    for (int k = 0; k < 3; ++k) {
+        const double c = f.edge[static_cast<std::size_t>(k)].dot(e1), s = f.edge[static_cast<std::size_t>(k)].dot(e2);
+        p.T.row(k) << c * c, s * s, c * s;
+    }
+    return p;
+}
+
+} // namespace
+
+EdgeFrame edge_frame(const Nodes& nodes) {
+    std::array<Vec3, 3> mid;
+    for (std::size_t k = 0; k < 3; ++k)
+        mid[k] = 0.5 * (nodes[k] + nodes[k + 3]);
+    EdgeFrame f;
+    for (std::size_t k = 0; k < 3; ++k)
+        f.edge[k] = (mid[(k + 1) % 3] - mid[k]).normalized();
+    f.normal = (mid[1] - mid[0]).cross(mid[2] - mid[0]).normalized();
+    return f;
+}
+
+Mat6 strain_rotation(const Mat3& R) {
+    Mat6 Q;
+    for (int i = 0; i < 6; ++i)
+        Q.col(i) = strain_voigt(R.transpose() * strain_tensor(Vec6::Unit(i)) * R);
+    return Q;
+}
+
+Mat6 edge_projector(const Nodes& nodes, unsigned broken) {
+    if ((broken & 7u) == 0) return Mat6::Identity();
+    const InPlane p = in_plane(nodes);
+    Mat3 Z = Mat3::Zero();
+    for (int k = 0; k < 3; ++k)
+        Z(k, k) = (broken >> k) & 1u ? 0.0 : 1.0;
+    const Mat3 P = p.T.inverse() * Z * p.T; // in-plane block of Π, acting on (εxx, εyy, γxy)
+    // Local Voigt order (xx, yy, zz, yz, zx, xy): the in-plane components are 0, 1 and 5.
+    constexpr std::array<int, 3> in = {0, 1, 5};
+    Mat6 local = Mat6::Identity();
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+            local(in[static_cast<std::size_t>(i)], in[static_cast<std::size_t>(j)]) = P(i, j);
+    const Mat6 Q = strain_rotation(p.R);
+    return Q.inverse() * local * Q;
+}
+
+Mat6 damaged_elasticity(const Mat6& D, const Mat6& projector) {
+    const Mat6 Dd = projector.transpose() * D * projector;
+    return 0.5 * (Dd + Dd.transpose());
+}
+
+Vec3 edge_tensions(const Nodes& nodes, const Vec6& stress) {
+    const InPlane p = in_plane(nodes);
+    const Mat3 local = p.R.transpose() * tensor(stress) * p.R;
+    return p.T.transpose().inverse() * Vec3(local(0, 0), local(1, 1), local(0, 1));
 }
 
 Vec18 flatten(const Nodes& nodes) {

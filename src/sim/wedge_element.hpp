@@ -54,6 +54,43 @@ Mat6 elasticity(double young, double poisson);
 /// K_e = Σ_g w_g Bᵀ D B det J (Eqs. 5.25–5.26, 5.42), 18 × 18, symmetric PSD with the six
 /// rigid-body modes as its null space.
 Mat18 stiffness(const Nodes& nodes, double young, double poisson);
+/// The same with any symmetric material matrix D (an edge-damaged one, below).
+Mat18 stiffness(const Nodes& nodes, const Mat6& D);
+
+// === Edge damage (graph-based FEM, digest §1.4–1.7 and §7; crackle's wedge adaptation)
+//
+// The graph's edges are the element's three top-triangle edges (the vertical faces it shares
+// with its neighbours). Breaking edge k removes the in-plane strain along it: in the element's
+// tangent frame, the in-plane engineering strain e = (εxx, εyy, γxy) maps to the edge strains
+// ε_k = c_k²εxx + s_k²εyy + c_k s_k γxy (T, rows [c², s², cs]: exact on engineering strain,
+// erratum E2), and Π = T⁻¹ Z T with Z = diag(1 − ζ_k) (erratum E1: ζ = 1 means broken, so the
+// mask is 1 − ζ) zeroes the broken ones while keeping the others. εzz and the transverse shears
+// are left alone, so a fully broken element still holds its top to the background and K stays
+// positive definite. The damaged material matrix is ΠᵀDΠ (the double projection of Eqs. 21–22:
+// symmetric, energy ½(Πε)ᵀD(Πε)); the edge tension conjugate to a broken edge's strain is zero.
+
+/// Unit directions of the element's three edges (edge k: corner k → k + 1) on its mid-surface
+/// triangle, and the unit normal of that triangle.
+struct EdgeFrame {
+    std::array<Vec3, 3> edge;
+    Vec3 normal;
+};
+EdgeFrame edge_frame(const Nodes& nodes);
+
+/// Π (6 × 6, global Voigt, engineering strains) removing the in-plane strain along the edges
+/// whose bit is set in `broken` (bit k: edge k). Identity for broken = 0.
+Mat6 edge_projector(const Nodes& nodes, unsigned broken);
+
+/// ΠᵀDΠ: the material matrix of an element with broken edges.
+Mat6 damaged_elasticity(const Mat6& D, const Mat6& projector);
+
+/// The in-plane stress of an element as edge tensions t (Pa), σ_in = Σ_k t_k n_k n_kᵀ in the
+/// element's frame (t = T⁻ᵀ σ_in): the stress each graph edge carries. A broken edge carries 0.
+Vec3 edge_tensions(const Nodes& nodes, const Vec6& stress);
+
+/// The rotation of engineering-strain Voigt vectors into a frame whose columns are R's:
+/// ε_local = Q ε_global. Stresses (tensor Voigt) rotate with Q⁻ᵀ.
+Mat6 strain_rotation(const Mat3& R);
 
 /// Σ_g w_g det J_g: the element volume (exact for wedges with parallel triangles).
 double volume(const Nodes& nodes);

@@ -3,6 +3,7 @@
 
 #include "fracture/fem_remove/fem_remove.hpp"
 #include "fracture/fem_split/fem_split.hpp"
+#include "fracture/graph_fem/graph_fem.hpp"
 #include "fracture/statistics.hpp"
 #include "support/fem_fixture.hpp"
 
@@ -14,6 +15,7 @@ struct FractureRun {
     fracture::RunStats run;
     fracture::SplitStats split;     ///< fem-split runs
     fracture::RemovalStats removal; ///< fem-remove runs
+    fracture::GraphFemStats graph;  ///< graph-fem runs
 };
 
 inline FractureRun run_removal(const LayerSpec& spec, double duration = 1.0, double min_element_size = 0.0,
@@ -41,6 +43,18 @@ inline FractureRun run_split(const LayerSpec& spec, double duration = 1.0, fract
     Rng rng(spec.seed, RngStream::Fracture);
     FractureRun r;
     r.pattern = fracture::run_fem_split(*layer.model, options, split, rng, &r.run, &r.split);
+    r.stats = fracture::pattern_statistics(r.pattern);
+    return r;
+}
+
+/// A graph-fem run on the layer.
+inline FractureRun run_graph(const LayerSpec& spec, double duration = 1.0, fracture::GraphFemOptions graph = {},
+                             fracture::FractureOptions options = {}) {
+    Layer layer(spec);
+    options.duration = duration;
+    Rng rng(spec.seed, RngStream::Fracture);
+    FractureRun r;
+    r.pattern = fracture::run_graph_fem(*layer.model, options, graph, rng, &r.run, &r.graph);
     r.stats = fracture::pattern_statistics(r.pattern);
     return r;
 }

@@ -57,16 +57,7 @@ CrackPattern run_fem_remove(sim::FemModel& model, const FractureOptions& options
     };
 
     StressCache cache(model);
-    // The state at the start: equilibrium and its rate, globally.
-    {
-        Timer timer;
-        stats.solver_iterations += model.relax().iterations + model.solve_rate().iterations;
-        stats.solves += 2;
-        stats.solve_seconds += timer.seconds();
-        timer.reset();
-        cache.refresh_all();
-        stats.stress_seconds += timer.seconds();
-    }
+    relax_all(model, cache, stats); // the state at the start: equilibrium and its rate, globally
     Progress progress("fracture", options.duration);
     double last_step = options.duration * 1e-3;
 

@@ -24,6 +24,18 @@ inline double initial_radius(const sim::FemModel& model, double tolerance) {
     return std::clamp(std::ceil(1.6 * std::log(1.0 / tolerance) * h / edge), 2.0, 64.0);
 }
 
+/// Solves the equilibrium and its rate globally and re-evaluates every cached stress: the start
+/// of a run, and whenever the whole stiffness changed.
+inline void relax_all(sim::FemModel& model, StressCache& cache, RunStats& stats) {
+    Timer timer;
+    stats.solver_iterations += model.relax().iterations + model.solve_rate().iterations;
+    stats.solves += 2;
+    stats.solve_seconds += timer.seconds();
+    timer.reset();
+    cache.refresh_all();
+    stats.stress_seconds += timer.seconds();
+}
+
 /// Moves the model to t along the exact affine solution and the cache with it; only when
 /// shrinkage rebuilt the stiffness does it re-solve and re-evaluate every stress.
 inline void advance_model(sim::FemModel& model, StressCache& cache, double t, RunStats& stats) {
@@ -33,17 +45,13 @@ inline void advance_model(sim::FemModel& model, StressCache& cache, double t, Ru
     model.advance_time(t);
     ++stats.time_steps;
     stats.stiffness_rebuilds += model.stiffness_builds() - builds;
+    stats.solve_seconds += timer.seconds();
     if (model.stiffness_changed()) {
-        stats.solver_iterations += model.relax().iterations + model.solve_rate().iterations;
-        stats.solves += 2;
-        stats.solve_seconds += timer.seconds();
-        timer.reset();
-        cache.refresh_all(); // new B matrices: every stress changes
-    } else {
-        stats.solve_seconds += timer.seconds();
-        timer.reset();
-        cache.advance(t - t0);
+        relax_all(model, cache, stats); // new B matrices: every stress changes
+        return;
     }
+    timer.reset();
+    cache.advance(t - t0);
     stats.stress_seconds += timer.seconds();
 }
 
@@ -126,13 +134,9 @@ inline void settle_time_step(sim::FemModel& model, StressCache& cache, const Fra
     }
     timer.reset();
     if (options.local_relaxation && model.max_residual_force() > 1e-3 * model.force_scale()) {
-        stats.solver_iterations += model.relax().iterations + model.solve_rate().iterations;
-        stats.solves += 2;
         stats.global_cleanups += 1;
         stats.solve_seconds += timer.seconds();
-        timer.reset();
-        cache.refresh_all();
-        stats.stress_seconds += timer.seconds();
+        relax_all(model, cache, stats);
     } else {
         stats.solve_seconds += timer.seconds();
     }

@@ -245,11 +245,27 @@ TEST_SUITE("app") {
         CHECK(contains(r.err, "residual"));
     }
 
-    TEST_CASE("cli: a fracture method that is not available is refused before any work") {
-        const auto r = run_cli({"simulate", "mud", "--set", "simulation.method=graph-fem"});
+    TEST_CASE("cli: a misspelt fracture method is refused before any work, naming the methods") {
+        const auto r = run_cli({"simulate", "mud", "--set", "simulation.method=graph-fm"});
         CHECK(r.code == 2);
         CHECK(contains(r.err, "simulation.method"));
-        CHECK(contains(r.err, "--set"));
+        CHECK(contains(r.err, "graph-fem"));
+    }
+
+    TEST_CASE("cli: graph-fem runs from any preset with --set and reports a system that never changed size") {
+        const auto dir = test::scratch_dir("cli-graph-fem");
+        for (const char* preset : {"mud", "bark", "fruit"}) {
+            CAPTURE(preset);
+            const fs::path json = dir / (std::string(preset) + ".json");
+            const auto r = run_cli({"-q", "simulate", preset, "--set", "simulation.method=graph-fem", "--set",
+                                    "simulation.elements=600", "--json", json.string()});
+            REQUIRE(r.code == 0);
+            const std::string report = test::slurp(json);
+            CHECK(contains(report, "\"method\": \"graph-fem\""));
+            CHECK(number_field(report, "breaks") > 0);
+            CHECK(number_field(report, "nonzeros_final") == number_field(report, "nonzeros_initial"));
+            CHECK(number_field(report, "graph_edges") > 0);
+        }
     }
 
     TEST_CASE("cli: simulate is deterministic for a preset and seed") {
