@@ -111,7 +111,9 @@ private:
 /// The crack pattern of a graph-fem run on the mesh's dual (digest §7.6): each face is cut into
 /// kites around its corners through its centroid and, on broken edges, the edge midpoint; the
 /// kite mesh is opened along the dual segments (midpoint → centroid) of every broken edge, and
-/// each vertex copy follows the mean displacement of the corners on its side.
+/// each vertex copy follows the mean displacement of the corners on its side. Where a crack
+/// passes through a face the dual point moves onto the line between its two edge midpoints
+/// (rendering only), so cracks do not kink at every centroid.
 CrackPattern graph_pattern(const sim::FemModel& model, const EdgeGraph& graph, std::size_t elements_initial);
 
 /// Runs graph-fem from the model's current time to `options.duration`.

@@ -56,9 +56,21 @@ CrackPattern graph_pattern(const sim::FemModel& model, const EdgeGraph& graph, s
         km.positions.push_back(dm.positions[vertex_id(v)]);
         if (dm.periodic) km.domain.push_back(dm.domain[vertex_id(v)]);
     }
+    // A face a crack passes through (two broken edges, sharing corner a) gets its dual point
+    // halfway between the two edge midpoints, so the crack runs straight across it instead of
+    // kinking at the centroid (digest §7.6: smoothing for rendering only; the simulation never
+    // sees it). Tips (one broken edge) and junctions (three) keep the centroid.
     std::vector<Vec2i> centroid_offset(nf);
-    for (std::size_t f = 0; f < nf; ++f)
-        centroid_offset[f] = add_point(km, dm, surface, face_id(f), {1.0 / 3.0, 1.0 / 3.0, 1.0 / 3.0});
+    for (std::size_t f = 0; f < nf; ++f) {
+        std::array<double, 3> w = {1.0 / 3.0, 1.0 / 3.0, 1.0 / 3.0};
+        const unsigned broken = model.broken_edges(face_id(f));
+        for (std::size_t a = 0; a < 3; ++a)
+            if (broken == ((1u << a) | (1u << ((a + 2) % 3)))) { // edges a → a+1 and a+2 → a
+                w = {0.25, 0.25, 0.25};
+                w[a] = 0.5;
+            }
+        centroid_offset[f] = add_point(km, dm, surface, face_id(f), w);
+    }
 
     // Kites around each corner: for edge a → b of face T (neighbour N), cell a gets (a, d_N, d_T)
     // and cell b (b, d_T, d_N), all in T's frame; a broken edge's kites are halved through its

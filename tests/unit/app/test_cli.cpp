@@ -266,6 +266,14 @@ TEST_SUITE("app") {
             CHECK(number_field(report, "nonzeros_final") == number_field(report, "nonzeros_initial"));
             CHECK(number_field(report, "graph_edges") > 0);
         }
+        // A solver that cannot converge is a numeric failure: exit 3, nothing written.
+        const fs::path json = dir / "failed.json";
+        const auto r = run_cli({"-q", "simulate", "mud", "--set", "simulation.method=graph-fem", "--set",
+                                "simulation.elements=300", "--set", "simulation.solver_max_iterations=1", "--json",
+                                json.string()});
+        CHECK(r.code == 3);
+        CHECK(contains(r.err, "residual"));
+        CHECK_FALSE(fs::exists(json));
     }
 
     TEST_CASE("cli: simulate is deterministic for a preset and seed") {
