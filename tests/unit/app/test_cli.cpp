@@ -252,11 +252,15 @@ TEST_SUITE("app") {
         CHECK(contains(r.err, "graph-fem"));
     }
 
-    TEST_CASE("cli: graph-fem runs from any preset with --set and reports a system that never changed size") {
+    TEST_CASE("cli: graph-fem runs from every preset with --set, reports a system that never changed size, and "
+              "bakes and exports its pattern") {
+        const bool gl = test::gl_context_or_skip() != nullptr;
         const auto dir = test::scratch_dir("cli-graph-fem");
-        for (const char* preset : {"mud", "bark", "fruit"}) {
+        for (const char* preset : {"mud", "bark", "fruit", "mud/thickness-gradient"}) {
             CAPTURE(preset);
-            const fs::path json = dir / (std::string(preset) + ".json");
+            std::string name = preset;
+            std::replace(name.begin(), name.end(), '/', '_');
+            const fs::path json = dir / (name + ".json");
             const auto r = run_cli({"-q", "simulate", preset, "--set", "simulation.method=graph-fem", "--set",
                                     "simulation.elements=600", "--json", json.string()});
             REQUIRE(r.code == 0);
@@ -265,6 +269,16 @@ TEST_SUITE("app") {
             CHECK(number_field(report, "breaks") > 0);
             CHECK(number_field(report, "nonzeros_final") == number_field(report, "nonzeros_initial"));
             CHECK(number_field(report, "graph_edges") > 0);
+        }
+        if (gl) {
+            const auto b = run_cli({"-q", "bake", "mud", "--size", "64", "--set", "simulation.method=graph-fem",
+                                    "--set", "simulation.elements=600", "--out", (dir / "bake").string()});
+            CHECK_MESSAGE(b.code == 0, b.err);
+            CHECK(fs::exists(dir / "bake" / "mud_Displacement.png"));
+            const auto e = run_cli({"-q", "export", "bark", "--format", "glb", "--set", "simulation.method=graph-fem",
+                                    "--set", "simulation.elements=600", "--out", (dir / "bark.glb").string()});
+            CHECK_MESSAGE(e.code == 0, e.err);
+            CHECK(fs::file_size(dir / "bark.glb") > 1000);
         }
         // A solver that cannot converge is a numeric failure: exit 3, nothing written.
         const fs::path json = dir / "failed.json";

@@ -267,6 +267,24 @@ TEST_SUITE("fracture") {
         CHECK(r.stats.psi6 < 0.3);
     }
 
+    TEST_CASE("graph-fem: Griffith tips run while the energy pays and arrest where it does not") {
+        // The same scene at two toughnesses: cheap crack walls let tips run far from where they
+        // started (many extensions per stress-driven break), dear ones stop them (arrests), and
+        // without the test no tip runs below threshold at all.
+        LayerSpec s = mud(5, 600);
+        s.toughness = 20;
+        const auto cheap = test::run_graph(s);
+        s.toughness = 2000;
+        const auto dear = test::run_graph(s);
+        const auto none = test::run_graph(s, 1.0, stress_only());
+        CHECK(cheap.graph.extensions > cheap.graph.breaks / 2);
+        CHECK(dear.graph.arrests > 0);
+        CHECK(dear.graph.extensions < cheap.graph.extensions / 2);
+        CHECK(none.graph.extensions == 0);
+        CHECK(none.graph.griffith_rejections == 0);
+        CHECK(cheap.stats.fragments > 5);
+    }
+
     TEST_CASE("graph-fem: mud statistics against fem-split at equal and twice the element count") {
         // Differences stated, not hidden (docs/benchmarks.md has the full table): graph-fem's
         // dual cracks are longer (they zig-zag at element scale) and its junctions read as Y at
