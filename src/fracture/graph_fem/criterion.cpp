@@ -169,7 +169,8 @@ double EdgeCriterion::next_crossing(const std::vector<char>& skip, std::size_t* 
             const EdgeGraph::Side& s = edge.side[static_cast<std::size_t>(i)];
             const auto k = static_cast<std::size_t>(s.edge);
             const double a = m_a[s.face][k], b = m_b[s.face][k];
-            const double tau = a >= 1.0 ? 0.0 : b > 0 ? (1.0 - a) / b : std::numeric_limits<double>::infinity();
+            // A ratio that is not rising never crosses (one exactly at 1 and flat included).
+            const double tau = b > 0 ? std::max(0.0, (1.0 - a) / b) : std::numeric_limits<double>::infinity();
             if (tau < best) {
                 best = tau;
                 if (which) *which = e;
