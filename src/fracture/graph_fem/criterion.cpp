@@ -160,17 +160,18 @@ double EdgeCriterion::ratio_at(std::size_t e, double tau) const {
     return best;
 }
 
-double EdgeCriterion::next_crossing(const std::vector<char>& skip, std::size_t* which) const {
+double EdgeCriterion::next_crossing(const std::vector<double>& level, std::size_t* which) const {
     double best = std::numeric_limits<double>::infinity();
     for (std::size_t e = 0; e < m_graph.size(); ++e) {
-        if ((!skip.empty() && skip[e]) || m_graph.broken(m_model, e)) continue;
+        if (m_graph.broken(m_model, e)) continue;
+        const double target = level.empty() ? 1.0 : level[e];
         const EdgeGraph::Edge& edge = m_graph.edge(e);
         for (int i = 0; i < edge.sides; ++i) {
             const EdgeGraph::Side& s = edge.side[static_cast<std::size_t>(i)];
             const auto k = static_cast<std::size_t>(s.edge);
             const double a = m_a[s.face][k], b = m_b[s.face][k];
             // A ratio that is not rising never crosses (one exactly at 1 and flat included).
-            const double tau = b > 0 ? std::max(0.0, (1.0 - a) / b) : std::numeric_limits<double>::infinity();
+            const double tau = b > 0 ? std::max(0.0, (target - a) / b) : std::numeric_limits<double>::infinity();
             if (tau < best) {
                 best = tau;
                 if (which) *which = e;

@@ -80,8 +80,11 @@ CrackPattern run_graph_fem(sim::FemModel& model, const FractureOptions& options,
     criterion.refresh_all();
     std::vector<std::uint32_t> changed;
     cache.take_changes(changed);
-    // Edges the Griffith gate turned down: they wait for the next time step.
-    std::vector<char> waiting(graph.size(), 0);
+    // The ratio each edge must pass to be tried by stress: 1, or, for an edge whose break the
+    // Griffith test turned down, the ratio at which it would pay. Released energy grows as the
+    // load squared, so that is the trial's ratio × √(G_c·A / released): no futile retries.
+    std::vector<double> level(graph.size(), 1.0);
+    double shortfall = 1; // G_c·A / released of the last trial turned down
     const double nu = model.poisson_ratio();
     Progress progress("graph-fem", options.duration);
 
@@ -116,7 +119,9 @@ CrackPattern run_graph_fem(sim::FemModel& model, const FractureOptions& options,
                 young += model.material(f).young_modulus / static_cast<double>(near.faces.size());
             }
             const double gc = (1 - nu * nu) * toughness * toughness / young;
-            if (!(before - at_break + released > gc * crack_area(model, edge))) {
+            const double paid = before - at_break + released, cost = gc * crack_area(model, edge);
+            if (!(paid > cost)) {
+                shortfall = paid > 0 ? std::max(cost / paid, 1.0) : 1e6;
                 model.rollback();
                 ++g.griffith_rejections;
                 return false;
@@ -137,6 +142,9 @@ CrackPattern run_graph_fem(sim::FemModel& model, const FractureOptions& options,
         stats.stress_seconds += timer.seconds();
         ++g.breaks;
         events.add(ev, model);
+        for (FaceId f : near.faces) // their energies changed: estimates made before are stale
+            for (int k = 0; k < 3; ++k)
+                level[graph.edge_of(ix(f), k)] = 1.0;
         return true;
     };
     auto touches_crack = [&](std::size_t e) {
@@ -176,6 +184,7 @@ CrackPattern run_graph_fem(sim::FemModel& model, const FractureOptions& options,
                     front.push_back(next);
                 } else {
                     ++g.arrests;
+                    level[next] = std::max(level[next], best_ratio * std::sqrt(shortfall));
                 }
             }
         }
@@ -190,12 +199,13 @@ CrackPattern run_graph_fem(sim::FemModel& model, const FractureOptions& options,
         // equal-biaxial shrinkage ties every edge (digest §6.2).
         const bool have = pick_most_over(
             graph.size(), [&](std::size_t e) { return criterion.ratio(e); },
-            [&](std::size_t e) { return !waiting[e] && !graph.broken(model, e); }, rng, picked, best);
+            [&](std::size_t e) { return criterion.ratio(e) > level[e] && !graph.broken(model, e); }, rng, picked,
+            best);
         stats.stress_seconds += timer.seconds();
         if (have) {
             if (events.full(model.time())) break;
             if (!try_break(picked, graph_options.griffith && touches_crack(picked), "break", best)) {
-                waiting[picked] = 1; // the Griffith gate: try again once the load has risen
+                level[picked] = best * std::sqrt(shortfall); // the Griffith gate: wait for the load
                 continue;
             }
             if (graph_options.griffith) propagate(picked);
@@ -211,7 +221,7 @@ CrackPattern run_graph_fem(sim::FemModel& model, const FractureOptions& options,
         // The next break, in closed form: every side's ratio is a + b·τ until K changes.
         const double t0 = model.time();
         const double horizon = std::min(options.duration, model.stiffness_horizon());
-        const double tau = criterion.next_crossing(waiting);
+        const double tau = criterion.next_crossing(level);
         // Just past the crossing, so the edge is over its threshold when the loop looks.
         const double t_next = std::isfinite(tau) ? std::min(horizon, t0 + tau + 0.5 * dt_min) : horizon;
         stats.stress_seconds += timer.seconds();
@@ -219,7 +229,6 @@ CrackPattern run_graph_fem(sim::FemModel& model, const FractureOptions& options,
         timer.reset();
         criterion.refresh_all();
         cache.take_changes(changed);
-        std::fill(waiting.begin(), waiting.end(), 0);
         stats.stress_seconds += timer.seconds();
     }
     progress.finish();

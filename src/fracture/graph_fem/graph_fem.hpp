@@ -29,7 +29,8 @@ struct GraphFemOptions {
     /// reaches the threshold, then their tips run on through the tip face's most stressed edge
     /// while the energy a break releases pays for the new crack wall (G_c × dual-edge length ×
     /// thickness; a trial, rolled back when it does not: the tip is arrested). A stress-driven
-    /// break next to an existing crack must pay the same (else it waits for the next time step).
+    /// break next to an existing crack must pay the same (else it waits until the load has grown
+    /// enough for it to pay, estimated from the trial: released energy ∝ load²).
     /// false: the paper's pure stress criterion.
     bool griffith = true;
     bool operator==(const GraphFemOptions&) const = default;
@@ -86,9 +87,9 @@ public:
     /// Ratio of an intact edge τ after the cache's time (the larger side).
     double ratio_at(std::size_t e, double tau) const;
     double ratio(std::size_t e) const { return ratio_at(e, 0.0); }
-    /// Closed form: the smallest τ ≥ 0 at which an intact edge not `skip`ped reaches ratio 1
-    /// (∞ when none is rising), and which edge.
-    double next_crossing(const std::vector<char>& skip, std::size_t* edge = nullptr) const;
+    /// Closed form: the smallest τ ≥ 0 at which an intact edge's rising ratio reaches its level
+    /// (`level[e]`; 1 for every edge when empty), ∞ when none rises, and which edge.
+    double next_crossing(const std::vector<double>& level, std::size_t* edge = nullptr) const;
     /// The faces R_d-averaging face f (f itself when R_d = 0), with their weights.
     const std::vector<std::pair<std::uint32_t, double>>& neighbourhood(std::size_t f) const { return m_hood[f]; }
 

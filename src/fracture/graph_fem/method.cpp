@@ -28,11 +28,15 @@ public:
             d["subdivisions"] = 0;
             d["breaks"] = g.breaks;
             d["griffith_rejections"] = g.griffith_rejections;
+            d["tip_extensions"] = g.extensions;
+            d["tip_arrests"] = g.arrests;
             d["graph_edges"] = g.edges;
             d["nonzeros_initial"] = g.nonzeros_initial;
             d["nonzeros_final"] = g.nonzeros_final;
             r.summary = "edges        " + std::to_string(g.edges) + " graph edges, " + std::to_string(g.breaks)
-                        + " broken (" + std::to_string(g.griffith_rejections) + " turned down by Griffith); K "
+                        + " broken (" + std::to_string(g.extensions) + " by Griffith tips, "
+                        + std::to_string(g.arrests) + " tips arrested, " + std::to_string(g.griffith_rejections)
+                        + " trials undone); K "
                         + std::to_string(g.nonzeros_final) + " nonzeros throughout";
         });
     }
