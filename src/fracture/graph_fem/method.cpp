@@ -34,9 +34,8 @@ public:
             d["nonzeros_initial"] = g.nonzeros_initial;
             d["nonzeros_final"] = g.nonzeros_final;
             r.summary = "edges        " + std::to_string(g.edges) + " graph edges, " + std::to_string(g.breaks)
-                        + " broken (" + std::to_string(g.extensions) + " by Griffith tips, "
-                        + std::to_string(g.arrests) + " tips arrested, " + std::to_string(g.griffith_rejections)
-                        + " trials undone); K "
+                        + " broken (" + std::to_string(g.extensions) + " by Griffith tips, " + std::to_string(g.arrests)
+                        + " tips arrested, " + std::to_string(g.griffith_rejections) + " trials undone); K "
                         + std::to_string(g.nonzeros_final) + " nonzeros throughout";
         });
     }
