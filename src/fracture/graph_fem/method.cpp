@@ -51,8 +51,8 @@ std::vector<KeySpec> graph_fem_keys() {
     s.push_back(number("simulation", "damage_radius", 0.0, "m", 0.0, 100.0,
                        "graph-fem only: R_d, the radius over which the breaking criterion averages the element "
                        "stress (area-weighted, along the surface, not across cracks; digest §1.5). In metres, so "
-                       "refining the mesh keeps the physics. Larger = more diffuse cracking; 0 = each element's "
-                       "own stress."));
+                       "refining the mesh keeps the physics. On mud, one to two element rings give fewer, larger "
+                       "plates; the effect is not monotone (docs/benchmarks.md). 0 = each element's own stress."));
     s.push_back(boolean("simulation", "edge_griffith", true,
                         "graph-fem only: cracks start where the stress reaches the threshold, then their tips run "
                         "on edge by edge while the energy a break releases pays for the new crack wall (Griffith, "
