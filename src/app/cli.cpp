@@ -2,6 +2,7 @@
 
 #include "app/bench.hpp"
 #include "app/commands.hpp"
+#include "app/watch.hpp"
 #include "core/error.hpp"
 #include "core/log.hpp"
 #include "core/progress.hpp"
@@ -83,6 +84,9 @@ int run(int argc, const char* const* argv, std::ostream& out, std::ostream& err)
     bake->add_option("--out", bake_args.out_dir, "Output folder (default: out)");
     bake->add_option("--json", bake_args.json_path, "Write the report as JSON");
     bake->add_flag("--preview", bake_args.preview, "Quick look: 512 px, 2 samples");
+    bake->add_flag("--watch", bake_args.watch,
+                   "Re-bake the preview whenever the preset file is saved; errors are shown and the watch goes "
+                   "on; Ctrl-C stops");
     bake->add_option("--shader-dir", bake_args.shader_dir,
                      "Read the GLSL shaders from this folder (while editing them)");
     add_preset_options(bake, bake_args.preset);
@@ -147,7 +151,13 @@ int run(int argc, const char* const* argv, std::ostream& out, std::ostream& err)
             code = mesh_command(mesh_args, global, out);
         else if (simulate->parsed())
             code = simulate_command(sim_args, global, out);
-        else if (bake->parsed())
+        else if (bake->parsed() && bake_args.watch) {
+            std::atomic<bool> stop{false};
+            install_interrupt_stop(stop);
+            WatchControl control;
+            control.stop = &stop;
+            code = watch_command(bake_args, global, out, err, control);
+        } else if (bake->parsed())
             code = bake_command(bake_args, global, out);
         else if (exp->parsed())
             code = export_command(export_args, global, out);

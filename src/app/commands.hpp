@@ -42,6 +42,7 @@ struct BakeArgs {
     io::PresetRequest preset;
     int size = 0;           ///< --size (0 = bake.size)
     bool preview = false;   ///< --preview: 512 px, 2 samples
+    bool watch = false;     ///< --watch: re-bake the preview whenever the preset file changes
     std::string shader_dir; ///< read GLSL from here instead of the embedded copies
     std::string out_dir;    ///< "" = out/
     std::string json_path;
