@@ -1,8 +1,13 @@
 // graph-fem as a fracture method: its [simulation] keys, its options, its run and report.
 #include "fracture/method.hpp"
 
+#include "core/error.hpp"
 #include "fracture/graph_fem/graph_fem.hpp"
 #include "fracture/toolkit/fem_method.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
 
 namespace crackle::fracture {
 
@@ -21,6 +26,7 @@ public:
 
     MethodResult run(const MethodInputs& in, StepTimes& times) override {
         return run_on_wedge_layer(in, times, [&](sim::FemModel& model, Rng& rng, MethodResult& r) {
+            check_damage_radius(model);
             GraphFemStats g;
             r.pattern = run_graph_fem(model, in.options, m_options, rng, &r.run, &g);
             Json& d = r.details;
@@ -41,6 +47,25 @@ public:
     }
 
 private:
+    /// Each element averages over the elements within R_d: the work and memory per element grow
+    /// as R_d², so a radius of a tile's size (a typo, or metres meant as millimetres) would take
+    /// hours and gigabytes. Refused beyond about a thousand elements per neighbourhood.
+    void check_damage_radius(const sim::FemModel& model) const {
+        constexpr double MAX_NEIGHBOURS = 1000;
+        const double face_area =
+            model.mesh().total_area() / static_cast<double>(std::max<std::size_t>(model.mesh().num_faces(), 1));
+        const double neighbours =
+            std::min(PI * sqr(m_options.damage_radius) / face_area, static_cast<double>(model.mesh().num_faces()));
+        if (neighbours <= MAX_NEIGHBOURS) return;
+        const double limit = std::sqrt(MAX_NEIGHBOURS * face_area / PI);
+        std::ostringstream what, fix;
+        what << m_options.damage_radius << " m averages each element's stress over "
+             << "about " << static_cast<long>(neighbours) << " elements (work and memory grow with that number)";
+        fix << "use at most " << limit << " m at this resolution; one to two element rings ("
+            << std::sqrt(face_area) * 2 << " m) is the useful range, see docs/benchmarks.md";
+        throw InputError("simulation.damage_radius", what.str(), fix.str());
+    }
+
     GraphFemOptions m_options;
 };
 
@@ -52,7 +77,8 @@ std::vector<KeySpec> graph_fem_keys() {
                        "graph-fem only: R_d, the radius over which the breaking criterion averages the element "
                        "stress (area-weighted, along the surface, not across cracks; digest §1.5). In metres, so "
                        "refining the mesh keeps the physics. On mud, one to two element rings give fewer, larger "
-                       "plates; the effect is not monotone (docs/benchmarks.md). 0 = each element's own stress."));
+                       "plates; the effect is not monotone (docs/benchmarks.md). 0 = each element's own stress. "
+                       "Refused when it would average over more than about 1000 elements."));
     s.push_back(boolean("simulation", "edge_griffith", true,
                         "graph-fem only: cracks start where the stress reaches the threshold, then their tips run "
                         "on edge by edge while the energy a break releases pays for the new crack wall (Griffith, "

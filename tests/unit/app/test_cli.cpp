@@ -280,6 +280,13 @@ TEST_SUITE("app") {
             CHECK_MESSAGE(e.code == 0, e.err);
             CHECK(fs::file_size(dir / "bark.glb") > 1000);
         }
+        // An averaging radius of a tile's size would take hours: refused before any work.
+        const auto big = run_cli({"-q", "simulate", "mud", "--set", "simulation.method=graph-fem", "--set",
+                                  "simulation.damage_radius=1", "--json", (dir / "big.json").string()});
+        CHECK(big.code == 2);
+        CHECK(contains(big.err, "simulation.damage_radius"));
+        CHECK(contains(big.err, "use at most"));
+        CHECK_FALSE(fs::exists(dir / "big.json"));
         // A solver that cannot converge is a numeric failure: exit 3, nothing written.
         const fs::path json = dir / "failed.json";
         const auto r = run_cli({"-q", "simulate", "mud", "--set", "simulation.method=graph-fem", "--set",
