@@ -91,7 +91,8 @@ std::vector<KeySpec> build_schema() {
         s.push_back(choice("simulation", "method", "fem-split", fracture::method_names(), about + "."));
     }
     s.push_back(integer("simulation", "elements", 8000, "", 32, 2.0e6,
-                        "Target triangle count of the starting mesh. More = finer crack detail and slower."));
+                        "Target triangle count of the starting mesh. More = finer crack detail and slower. A cylinder "
+                        "or sphere needs about six triangles around at least; fewer is refused, naming the minimum."));
     s.push_back(number("simulation", "duration", 1.0, "time", 0.0, 1000.0,
                        "Simulated time. Growth and shrinkage rates are per unit of it; longer = more, wider cracks.",
                        true));

@@ -245,6 +245,29 @@ TEST_SUITE("app") {
         CHECK(contains(r.err, "residual"));
     }
 
+    TEST_CASE("cli: a curved surface meshed too coarsely to hold its wedges is refused with the elements it needs") {
+        // Stability envelope (issue 12): with fewer than about six triangles around, a wedge
+        // spans more than 60° and turns inside out; these asserted (exit 1) before.
+        const auto tall = run_cli({"simulate", "bark", "--set", "simulation.method=fem-remove", "--set",
+                                   "simulation.elements=1500", "--set", "surface.size=[0.5,50]"});
+        CHECK(tall.code == 2);
+        CHECK(contains(tall.err, "simulation.elements"));
+        CHECK(contains(tall.err, "at least 8314"));
+        const auto narrow = run_cli({"simulate", "bark", "--set", "simulation.method=graph-fem", "--set",
+                                     "simulation.elements=800", "--set", "surface.size=[0.05,5]"});
+        CHECK(narrow.code == 2);
+        const auto ball =
+            run_cli({"simulate", "fruit", "--set", "simulation.elements=32", "--set", "surface.size=[1]"});
+        CHECK(ball.code == 0); // a sphere needs only about 27 triangles
+        // At the limit the layer builds and cracks, whatever the seed.
+        for (const char* seed : {"1", "2", "3"}) {
+            CAPTURE(seed);
+            const auto r = run_cli({"-q", "simulate", "bark", "--seed", seed, "--set", "simulation.method=fem-remove",
+                                    "--set", "simulation.elements=84", "--set", "simulation.max_events=20"});
+            CHECK_MESSAGE(r.code == 0, r.err);
+        }
+    }
+
     TEST_CASE("cli: a misspelt fracture method is refused before any work, naming the methods") {
         const auto r = run_cli({"simulate", "mud", "--set", "simulation.method=graph-fm"});
         CHECK(r.code == 2);
