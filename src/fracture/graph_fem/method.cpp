@@ -49,9 +49,11 @@ public:
 private:
     /// Each element averages over the elements within R_d: the work and memory per element grow
     /// as R_d², so a radius of a tile's size (a typo, or metres meant as millimetres) would take
-    /// hours and gigabytes. Refused beyond about a thousand elements per neighbourhood.
+    /// hours and gigabytes (a break re-averages every neighbourhood that holds it: work ∝ neighbours²;
+    /// 800 neighbours took 40 s on an 800-element mud). Refused beyond about 300 elements per
+    /// neighbourhood.
     void check_damage_radius(const sim::FemModel& model) const {
-        constexpr double MAX_NEIGHBOURS = 1000;
+        constexpr double MAX_NEIGHBOURS = 300;
         const double face_area =
             model.mesh().total_area() / static_cast<double>(std::max<std::size_t>(model.mesh().num_faces(), 1));
         const double neighbours =
@@ -78,7 +80,7 @@ std::vector<KeySpec> graph_fem_keys() {
                        "stress (area-weighted, along the surface, not across cracks; digest §1.5). In metres, so "
                        "refining the mesh keeps the physics. On mud, one to two element rings give fewer, larger "
                        "plates; the effect is not monotone (docs/benchmarks.md). 0 = each element's own stress. "
-                       "Refused when it would average over more than about 1000 elements."));
+                       "Refused when it would average over more than about 300 elements."));
     s.push_back(boolean("simulation", "edge_griffith", true,
                         "graph-fem only: cracks start where the stress reaches the threshold, then their tips run "
                         "on edge by edge while the energy a break releases pays for the new crack wall (Griffith, "
