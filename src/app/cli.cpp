@@ -2,6 +2,7 @@
 
 #include "app/bench.hpp"
 #include "app/commands.hpp"
+#include "app/study.hpp"
 #include "app/watch.hpp"
 #include "core/error.hpp"
 #include "core/log.hpp"
@@ -109,11 +110,33 @@ int run(int argc, const char* const* argv, std::ostream& out, std::ostream& err)
 
     // === bench
     BenchArgs bench_args;
-    CLI::App* bench = app.add_subcommand("bench", "Measure speed on fixed scenes (figures for docs/benchmarks.md)");
-    bench->add_option("SCENE", bench_args.scenes,
-                      "Scenes to run: solve, fem-remove, fem-split, mass-spring, bake (default: all)");
-    bench->add_flag("--quick", bench_args.quick, "Small sizes only");
-    bench->add_option("--out", bench_args.out_dir, "Folder for bench.json");
+    StudyArgs study_args;
+    std::string study_out;
+    CLI::App* bench =
+        app.add_subcommand("bench", "The speed-vs-accuracy study (CSV and charts), or a named speed micro-benchmark");
+    bench->add_option("MICRO", bench_args.scenes,
+                      "Speed micro-benchmarks instead of the study: solve, fem-remove, fem-split, mass-spring, bake");
+    bench->add_flag("--quick", bench_args.quick, "A small subset (the study in about a minute; what CI runs)");
+    bench->add_option("--out", study_out, "Output folder (study: runs.csv, points.csv, charts; default: bench)");
+    bench
+        ->add_option("--methods", study_args.methods,
+                     "Study methods (comma-separated): mass-spring-regular, mass-spring-random, fem-remove, "
+                     "fem-split, fem-split-tip, graph-fem (default: all)")
+        ->delimiter(',');
+    bench
+        ->add_option(
+            "--scenes", study_args.scenes,
+            "Study scenes (comma-separated): bar, film, film-cylinder, film-sphere, arrest, mud, bark (default: all)")
+        ->delimiter(',');
+    bench->add_option("--seeds", study_args.seeds, "Seeds per point (default 3; 1 with --quick)")
+        ->check(CLI::Range(1, 50));
+    bench->add_option("--time-limit", study_args.time_limit, "Seconds per run before it is stopped (default 600)")
+        ->check(CLI::Range(1.0, 86400.0));
+    bench->add_option("--reference", study_args.reference, "Read the reference from this file (default: built in)");
+    bench->add_flag("--make-reference", study_args.make_reference,
+                    "Run the reference runs and write reference.json into --out");
+    bool no_charts = false;
+    bench->add_flag("--no-charts", no_charts, "Write the CSVs only (no python3/matplotlib needed)");
 
     try {
         app.parse(argc, argv);
@@ -161,8 +184,15 @@ int run(int argc, const char* const* argv, std::ostream& out, std::ostream& err)
             code = bake_command(bake_args, global, out);
         else if (exp->parsed())
             code = export_command(export_args, global, out);
-        else if (bench->parsed())
+        else if (bench->parsed() && !bench_args.scenes.empty()) {
+            bench_args.out_dir = study_out;
             code = bench_command(bench_args, out);
+        } else if (bench->parsed()) {
+            study_args.quick = bench_args.quick;
+            study_args.out_dir = study_out;
+            study_args.charts = !no_charts;
+            code = study_command(study_args, out);
+        }
     } catch (const InputError& e) {
         err << "error: " << e.what() << "\n";
         code = 2;

@@ -12,6 +12,7 @@
 #include "io/mesh_export.hpp"
 #include "io/obj.hpp"
 #include "io/png.hpp"
+#include "io/resolution.hpp"
 #include "io/texture_set.hpp"
 #include "mesh/surface_mesh.hpp"
 #include "render/gl_context.hpp"
@@ -152,6 +153,13 @@ std::string events_csv(const fracture::CrackPattern& p) {
 
 namespace {
 
+double mean_thickness(const fracture::CrackPattern& p) {
+    double sum = 0;
+    for (double h : p.thickness)
+        sum += h;
+    return p.thickness.empty() ? 0.0 : sum / double(p.thickness.size());
+}
+
 /// The report fields of design.md for a finished simulation, plus details.
 Json simulation_report(const io::Preset& preset, const SimulationResult& r, const StepTimes& times) {
     const auto& st = r.statistics;
@@ -161,6 +169,8 @@ Json simulation_report(const io::Preset& preset, const SimulationResult& r, cons
     report["method"] = r.pattern.method;
     report["seed"] = static_cast<long long>(r.scene->seed);
     report["elements_initial"] = r.elements_initial;
+    if (const io::ElementCount count = io::element_count(preset); count.automatic)
+        report["elements_rule"] = "auto: " + count.reason;
     report["elements_final"] = r.elements_final;
     report["nodes"] = r.nodes;
     report["fracture_events"] = r.pattern.events.size();
@@ -197,6 +207,14 @@ Json simulation_report(const io::Preset& preset, const SimulationResult& r, cons
     report["junctions"] = st.junctions;
     report["axial_fraction"] = st.axial_fraction;
     report["total_area"] = st.total_area;
+    // Shape statistics of the speed-vs-accuracy study (docs/benchmarks.md): crack chains shorter
+    // than two layer thicknesses are straight by construction and left out of the tortuosity.
+    report["fragment_area_cv"] = st.fragment_area_cv;
+    report["tortuosity"] = fracture::crack_path_statistics(r.pattern, 2.0 * mean_thickness(r.pattern)).tortuosity;
+    double first = -1;
+    for (const auto& e : r.pattern.events)
+        if (first < 0 || e.time < first) first = e.time;
+    report["first_event_time"] = first; // −1 when nothing broke
     return report;
 }
 
@@ -264,6 +282,19 @@ io::PresetRequest with_bake_overrides(io::PresetRequest request, int size, bool 
     return request;
 }
 
+/// The bake's preset; --preview swaps in the reduced model (io::element_count's preview rule,
+/// no tip sub-model) after the preset's own values are known.
+io::Preset load_bake_preset(const BakeArgs& args) {
+    io::PresetRequest request = with_bake_overrides(args.preset, args.size, args.preview);
+    if (!args.preview) return io::load_preset(request);
+    const io::Preset full = io::load_preset(request);
+    const io::ElementCount reduced = io::element_count(full, true);
+    request.overrides.push_back("simulation.elements=" + std::to_string(reduced.elements));
+    if (full.text("simulation.method") == "fem-split") request.overrides.push_back("simulation.tip_submodel=0");
+    if (reduced.automatic) log::info(reduced.reason);
+    return io::load_preset(request);
+}
+
 } // namespace
 
 int simulate_command(const SimulateArgs& args, const GlobalOptions& global, std::ostream& out) {
@@ -297,7 +328,7 @@ int simulate_command(const SimulateArgs& args, const GlobalOptions& global, std:
 int bake_command(const BakeArgs& args, const GlobalOptions& global, std::ostream& out) {
     Timer total;
     StepTimes times;
-    const io::Preset preset = io::load_preset(with_bake_overrides(args.preset, args.size, args.preview));
+    const io::Preset preset = load_bake_preset(args);
     require_available_method(preset);
     const std::string name = output_name(preset);
     const std::filesystem::path dir =

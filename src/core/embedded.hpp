@@ -17,6 +17,10 @@ namespace embedded {
 const std::vector<EmbeddedFile>& presets();
 /// shaders/*.vert, *.frag, *.glsl
 const std::vector<EmbeddedFile>& shaders();
+/// docs/benchmarks/reference.json: the speed-vs-accuracy study's reference
+const std::vector<EmbeddedFile>& bench_files();
+/// scripts/*.py: the study's chart script
+const std::vector<EmbeddedFile>& scripts();
 } // namespace embedded
 
 } // namespace crackle

@@ -40,6 +40,18 @@ double Json::as_number() const {
     CRACKLE_ASSERT(false, "JSON value is not a number");
 }
 
+const Json::Array& Json::elements() const {
+    static const Array none;
+    const Array* a = std::get_if<Array>(&m_value);
+    return a ? *a : none;
+}
+
+const std::string& Json::as_string() const {
+    static const std::string none;
+    const std::string* s = std::get_if<std::string>(&m_value);
+    return s ? *s : none;
+}
+
 namespace {
 void escape(std::string& out, const std::string& s) {
     out += '"';

@@ -6,6 +6,7 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <variant>
 #include <vector>
@@ -44,6 +45,17 @@ public:
     /// The members of an object, in order (an empty list for anything else).
     const Object& members() const;
     double as_number() const;
+    bool is_number() const {
+        return std::holds_alternative<double>(m_value) || std::holds_alternative<std::int64_t>(m_value);
+    }
+    /// The elements of an array (an empty list for anything else).
+    const Array& elements() const;
+    /// The text of a string ("" for anything else).
+    const std::string& as_string() const;
+
+    /// Parses JSON text (RFC 8259; numbers without a fraction or exponent that fit become
+    /// integers). @throws InputError naming `source` and the byte offset of the first error.
+    static Json parse(std::string_view text, const std::string& source);
 
     /// Pretty-printed with two-space indentation and a trailing newline at top level.
     std::string dump() const;

@@ -26,6 +26,14 @@ KeySpec integer(std::string section, std::string key, std::int64_t def, std::str
     return s;
 }
 
+KeySpec integer_or_auto(std::string section, std::string key, std::string unit, double lo, double hi,
+                        std::string description) {
+    KeySpec s = integer(std::move(section), std::move(key), 0, std::move(unit), lo, hi, std::move(description));
+    s.default_value = std::string("auto");
+    s.allows_auto = true;
+    return s;
+}
+
 KeySpec choice(std::string section, std::string key, std::string def, std::vector<std::string> choices,
                std::string description) {
     KeySpec s;

@@ -27,6 +27,7 @@ struct KeySpec {
     std::vector<std::string> choices;   ///< Enum values
     int min_length = 0, max_length = 0; ///< FloatArray lengths
     std::string group;                  ///< who reads it, within its section ("" = everyone; "fem-split")
+    bool allows_auto = false;           ///< an Int key that also takes the string "auto"
 
     std::string name() const { return section + "." + key; }
 };
@@ -37,6 +38,9 @@ KeySpec number(std::string section, std::string key, double def, std::string uni
                std::string description, bool lo_excl = false, bool hi_excl = false);
 KeySpec integer(std::string section, std::string key, std::int64_t def, std::string unit, double lo, double hi,
                 std::string description);
+/// An integer key that also takes "auto" (the program chooses; Settings::is_auto).
+KeySpec integer_or_auto(std::string section, std::string key, std::string unit, double lo, double hi,
+                        std::string description);
 KeySpec choice(std::string section, std::string key, std::string def, std::vector<std::string> choices,
                std::string description);
 KeySpec array(std::string section, std::string key, std::vector<double> def, int min_len, int max_len, std::string unit,
@@ -55,6 +59,8 @@ public:
     virtual bool flag(const std::string& key) const = 0;
     virtual const std::string& text(const std::string& key) const = 0;
     virtual const std::vector<double>& numbers(const std::string& key) const = 0;
+    /// True when an integer_or_auto key holds "auto" (integer() must not be asked then).
+    virtual bool is_auto(const std::string& key) const = 0;
 };
 
 } // namespace crackle

@@ -185,15 +185,24 @@ PatternStatistics pattern_statistics(const CrackPattern& p) {
     st.fragments = p.num_fragments;
     double intact_area = 0;
     st.min_angle_deg = 180.0;
+    std::vector<double> fragment_area(static_cast<std::size_t>(std::max(p.num_fragments, 0)), 0.0);
     for (std::size_t f = 0; f < p.mesh.num_faces(); ++f) {
         const double a = p.mesh.face_area(face_id(f));
         st.total_area += a;
         if (p.removed[f]) continue;
         intact_area += a;
+        if (f < p.fragment.size() && p.fragment[f] >= 0 && p.fragment[f] < p.num_fragments)
+            fragment_area[static_cast<std::size_t>(p.fragment[f])] += a;
         const auto ang = p.mesh.face_angles(face_id(f));
         st.min_angle_deg = std::min(st.min_angle_deg, *std::min_element(ang.begin(), ang.end()) * RAD_TO_DEG);
     }
     st.mean_fragment_area = st.fragments > 0 ? intact_area / st.fragments : 0.0;
+    if (fragment_area.size() >= 2 && st.mean_fragment_area > 0) {
+        double var = 0;
+        for (double a : fragment_area)
+            var += sqr(a - st.mean_fragment_area);
+        st.fragment_area_cv = std::sqrt(var / double(fragment_area.size())) / st.mean_fragment_area;
+    }
 
     // === Orientation tensor M = Σ ℓ t tᵀ / Σ ℓ and ψ6 (digest §7.1)
     Mat2 M = Mat2::Zero();

@@ -22,6 +22,7 @@ struct PatternStatistics {
     int fragments = 0;
     double total_area = 0;            ///< reference surface area (m²)
     double mean_fragment_area = 0;    ///< m²
+    double fragment_area_cv = 0;      ///< standard deviation / mean of the fragment areas (0 with < 2)
     double crack_length = 0;          ///< m
     double crack_length_per_area = 0; ///< ρ_c (1/m)
     double anisotropy = 0;            ///< (λ1 − λ2)/(λ1 + λ2) of the orientation tensor, 0..1

@@ -5,6 +5,7 @@
 #include "core/error.hpp"
 #include "core/math.hpp"
 #include "core/strings.hpp"
+#include "io/resolution.hpp"
 
 #include <toml++/toml.h>
 
@@ -46,6 +47,9 @@ const std::string& Preset::text(const std::string& key) const {
 }
 const std::vector<double>& Preset::numbers(const std::string& key) const {
     return std::get<std::vector<double>>(entry(key).value);
+}
+bool Preset::is_auto(const std::string& key) const {
+    return std::holds_alternative<std::string>(entry(key).value);
 }
 
 fs::path Preset::path(const std::string& key) const {
@@ -174,6 +178,7 @@ std::string example_of(const KeySpec& spec) {
     case ValueType::Float:
         return "a number such as " + to_toml(spec.default_value);
     case ValueType::Int:
+        if (spec.allows_auto) return "\"auto\" or a whole number such as 8000";
         return "a whole number such as " + to_toml(spec.default_value);
     case ValueType::Bool:
         return "true or false";
@@ -200,6 +205,12 @@ Value convert(const KeySpec& spec, const toml::node& node, const std::string& wh
         throw mismatch();
     case ValueType::Int:
         if (node.is_integer()) return *node.value<std::int64_t>();
+        if (spec.allows_auto && node.is_string()) {
+            if (*node.value<std::string>() == "auto") return std::string("auto");
+            throw InputError(
+                where, spec.name() + " must be " + example_of(spec) + ", not \"" + *node.value<std::string>() + "\"",
+                "write " + example_of(spec));
+        }
         if (node.is_floating_point()) {
             const double d = *node.value<double>();
             if (std::isfinite(d) && d == std::floor(d) && std::abs(d) < 9.0e18) return static_cast<std::int64_t>(d);
@@ -340,6 +351,8 @@ void apply_override(const std::string& assignment, Values& values) {
         value = convert(*spec, *parsed.get("v"), where);
     } else if (spec->type == ValueType::String || spec->type == ValueType::Enum) {
         value = raw; // bare words are fine for text: --set surface.kind=plane
+    } else if (spec->allows_auto && raw == "auto") {
+        value = std::string("auto"); // --set simulation.elements=auto
     } else {
         throw InputError(where, "'" + raw + "' is not a valid value for " + key, "write " + example_of(*spec));
     }
@@ -373,11 +386,9 @@ void check_consistency(const Preset& p) {
     // A curved surface must be resolved: with fewer than about six triangles around, a triangle
     // spans more than 60° of arc and its wedge turns inside out (a stability sweep found a
     // 0.5 m × 50 m trunk failing at 5000 elements, about 4.7 around, and running at 10000).
-    if (kind != "plane") {
+    if (kind != "plane" && !p.is_auto("simulation.elements")) {
         const double around = kind == "sphere" ? 2 * PI * size[0] : size[0];
-        const double area = kind == "sphere" ? 4 * PI * sqr(size[0]) : size[0] * size[1];
-        const double edge = around / 6.0;
-        const auto needed = static_cast<long long>(std::ceil(area / (std::sqrt(3.0) / 4.0 * sqr(edge))));
+        const auto needed = minimum_elements(p);
         const auto elements = p.integer("simulation.elements");
         if (elements < needed)
             throw InputError(at("simulation.elements"),
@@ -385,7 +396,7 @@ void check_consistency(const Preset& p) {
                                  + to_toml(around) + " m around: its triangles would span more than a sixth "
                                  + "of the way around and the layer's elements turn inside out",
                              "use at least " + std::to_string(needed) + " elements"
-                                 + (kind == "cylinder" ? ", or a shorter cylinder" : ""));
+                                 + (kind == "cylinder" ? ", or a shorter cylinder" : "") + ", or \"auto\"");
     }
 
     const std::string growth = p.text("growth.kind");

@@ -35,6 +35,7 @@ public:
     bool flag(const std::string& key) const override;
     const std::string& text(const std::string& key) const override;
     const std::vector<double>& numbers(const std::string& key) const override;
+    bool is_auto(const std::string& key) const override;
     const PresetValue& entry(const std::string& key) const;
     /// A path-valued key resolved against the folder of the preset that set it.
     std::filesystem::path path(const std::string& key) const;

@@ -13,6 +13,7 @@ using keys::array;
 using keys::boolean;
 using keys::choice;
 using keys::integer;
+using keys::integer_or_auto;
 using keys::number;
 using keys::text;
 
@@ -90,9 +91,13 @@ std::vector<KeySpec> build_schema() {
             about += (&m == &fracture::methods().front() ? "" : ", ") + m.description;
         s.push_back(choice("simulation", "method", "fem-split", fracture::method_names(), about + "."));
     }
-    s.push_back(integer("simulation", "elements", 8000, "", 32, 2.0e6,
-                        "Target triangle count of the starting mesh. More = finer crack detail and slower. A cylinder "
-                        "or sphere needs about six triangles around at least; fewer is refused, naming the minimum."));
+    s.push_back(integer_or_auto(
+        "simulation", "elements", "", 32, 2.0e6,
+        "Triangle count of the starting mesh. \"auto\" = as many as the crack spacing needs: 3.2 per "
+        "square of the thinnest layer thickness over the surface (the speed-vs-accuracy study's rule, "
+        "docs/benchmarks.md), capped at one per 8 texture pixels (bake.size), at least 400 and what a curved "
+        "surface needs. A number = exactly that many (more = finer crack detail and slower); a cylinder or sphere "
+        "needs about six triangles around at least, and fewer is refused, naming the minimum."));
     s.push_back(number("simulation", "duration", 1.0, "time", 0.0, 1000.0,
                        "Simulated time. Growth and shrinkage rates are per unit of it; longer = more, wider cracks.",
                        true));
@@ -110,9 +115,11 @@ std::vector<KeySpec> build_schema() {
     s.push_back(choice("simulation", "solver", "cg", {"cg", "direct"},
                        "Equilibrium solver: cg = conjugate gradient warm-started from the last solution (the "
                        "default, fastest per crack event); direct = sparse Cholesky (CHOLMOD)."));
-    s.push_back(number("simulation", "solver_tolerance", 1e-9, "", 1e-14, 1e-3,
+    s.push_back(number("simulation", "solver_tolerance", 1e-9, "", 1e-14, 1e-4,
                        "FEM methods: CG residual relative to the growth/shrinkage load. Looser = faster, less exact "
-                       "stresses."));
+                       "stresses. At most 1e-4: at 1e-3 a crack event's local change can lie below the tolerance, "
+                       "so re-solves stop early and fem-remove's bark pattern lost half its cracks "
+                       "(docs/benchmarks.md, stability envelope)."));
     s.push_back(integer("simulation", "solver_max_iterations", 20000, "", 1, 1.0e7,
                         "FEM methods: CG iterations before the run fails with exit code 3."));
     s.push_back(integer("simulation", "max_events", 1000000, "", 1, 1.0e8,
@@ -263,6 +270,7 @@ std::string range_text(const KeySpec& spec) {
     };
     std::string r = std::string(spec.min_exclusive ? "(" : "[") + bound(spec.min) + ", " + bound(spec.max)
                     + (spec.max_exclusive ? ")" : "]");
+    if (spec.allows_auto) r = "auto | " + r;
     if (spec.type == ValueType::FloatArray) {
         const std::string len = spec.min_length == spec.max_length
                                     ? std::to_string(spec.min_length)
@@ -285,6 +293,10 @@ std::string check_value(const KeySpec& spec, const Value& value) {
         if (!in_range(std::get<double>(value))) os << "must be in " << range_text(spec);
         break;
     case ValueType::Int:
+        if (spec.allows_auto && std::holds_alternative<std::string>(value)) {
+            if (std::get<std::string>(value) != "auto") os << "must be \"auto\" or a whole number";
+            break;
+        }
         if (!in_range(static_cast<double>(std::get<std::int64_t>(value)))) os << "must be in " << range_text(spec);
         break;
     case ValueType::Enum: {

@@ -1,6 +1,7 @@
 #include "core/error.hpp"
 #include "io/preset.hpp"
 #include "support/cli_runner.hpp"
+#include "support/presets.hpp"
 
 #include <doctest/doctest.h>
 
@@ -11,22 +12,8 @@ namespace fs = std::filesystem;
 
 namespace {
 
-io::Preset load(const std::string& name, std::vector<std::string> overrides = {}) {
-    io::PresetRequest r;
-    r.name_or_path = name;
-    r.overrides = std::move(overrides);
-    return io::load_preset(r);
-}
-
-/// The message of the InputError that loading throws ("" if none).
-std::string load_error(const std::string& name, std::vector<std::string> overrides = {}) {
-    try {
-        load(name, std::move(overrides));
-    } catch (const InputError& e) {
-        return e.what();
-    }
-    return "";
-}
+using test::load;
+using test::load_error;
 
 bool contains(const std::string& s, const std::string& part) {
     return s.find(part) != std::string::npos;

@@ -1,0 +1,75 @@
+#include "io/resolution.hpp"
+
+#include "core/math.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+namespace crackle::io {
+
+const ResolutionRule& resolution_rule() {
+    static const ResolutionRule rule;
+    return rule;
+}
+
+double surface_area(const Settings& s) {
+    const auto& size = s.numbers("surface.size");
+    if (s.text("surface.kind") == "sphere") return 4 * PI * sqr(size[0]);
+    return size[0] * (size.size() > 1 ? size[1] : size[0]);
+}
+
+std::int64_t minimum_elements(const Settings& s) {
+    const std::string& kind = s.text("surface.kind");
+    if (kind == "plane") return 0;
+    // A triangle spanning more than a sixth of the way around turns its wedge inside out.
+    const auto& size = s.numbers("surface.size");
+    const double around = kind == "sphere" ? 2 * PI * size[0] : size[0];
+    const double edge = around / 6.0;
+    return static_cast<std::int64_t>(std::ceil(surface_area(s) / (std::sqrt(3.0) / 4.0 * sqr(edge))));
+}
+
+namespace {
+
+/// The thinnest the layer gets: the smaller of top and bottom, lowered by a thickness variation.
+double thinnest(const Settings& s) {
+    const auto& t = s.numbers("material.thickness");
+    double h = *std::min_element(t.begin(), t.end());
+    if (s.text("variation.thickness.pattern") != "none") h *= 1.0 - s.number("variation.thickness.amplitude");
+    return h;
+}
+
+} // namespace
+
+ElementCount element_count(const Settings& s, bool preview) {
+    const ResolutionRule& rule = resolution_rule();
+    const double h = thinnest(s), area = surface_area(s);
+    const double q = preview ? rule.preview_elements_per_thickness_squared : rule.elements_per_thickness_squared;
+    const double pixels = sqr(double(s.integer("bake.size")));
+    const double cap = pixels / rule.pixels_per_element;
+    ElementCount out;
+    if (!s.is_auto("simulation.elements")) {
+        out.elements = s.integer("simulation.elements");
+        if (!preview) return out;
+    }
+    const double wanted = h > 0 ? q * area / sqr(h) : double(rule.min_elements);
+    const double floor = double(std::max<std::int64_t>(rule.min_elements, minimum_elements(s)));
+    const double n = std::clamp(std::min(wanted, cap), floor, 2.0e6);
+    const auto count = static_cast<std::int64_t>(std::llround(n));
+    char buf[320];
+    int len = std::snprintf(buf, sizeof buf, "%s%.3g elements per h² over %.3g m² (h = %.3g m) = %.0f",
+                            preview ? "preview: " : "", q, area, h, wanted);
+    if (wanted > cap && n < wanted)
+        len += std::snprintf(buf + len, sizeof buf - std::size_t(len), ", capped at %lld for a %lld px texture",
+                             static_cast<long long>(count), static_cast<long long>(s.integer("bake.size")));
+    else if (n > wanted)
+        std::snprintf(buf + len, sizeof buf - std::size_t(len), ", raised to %lld (%s)", static_cast<long long>(count),
+                      floor > double(rule.min_elements) ? "the curved surface's minimum" : "the smallest model");
+    if (out.elements > 0 && out.elements <= count) return out; // an explicit count already coarser
+    out.elements = count;
+    out.automatic = true;
+    out.reason = buf;
+    return out;
+}
+
+} // namespace crackle::io

@@ -1,0 +1,45 @@
+#pragma once
+/// @file `simulation.elements = "auto"`: a model no finer than the scene needs. The element
+/// count follows the crack spacing the layer's thickness implies (the speed-vs-accuracy study's
+/// convergence table, docs/benchmarks.md "Model no more than a scene needs"), capped by what the
+/// texture can show, and never below what a curved surface needs to stay valid.
+
+#include "core/settings.hpp"
+
+#include <cstdint>
+#include <string>
+
+namespace crackle::io {
+
+/// The rule's constants, from the study (docs/benchmarks.md).
+struct ResolutionRule {
+    /// Elements per h² of surface (h the thinnest layer thickness) at which the pattern
+    /// statistics of the study's scenes come within their seed-to-seed spread of the reference.
+    double elements_per_thickness_squared = 3.2;
+    /// The preview's: the coarsest resolution that keeps the pattern's character.
+    double preview_elements_per_thickness_squared = 0.3;
+    /// Texture pixels per element at the cap: a triangle about 4 px on a side is the finest
+    /// a crack path can show.
+    double pixels_per_element = 8.0;
+    std::int64_t min_elements = 400;
+};
+
+const ResolutionRule& resolution_rule();
+
+struct ElementCount {
+    std::int64_t elements = 0;
+    bool automatic = false;
+    std::string reason; ///< how an automatic count was reached (for the report and the log)
+};
+
+/// The surface's area (m²), from surface.kind and surface.size.
+double surface_area(const Settings& s);
+
+/// The fewest elements a curved surface needs (about six triangles around); 0 on the plane.
+std::int64_t minimum_elements(const Settings& s);
+
+/// simulation.elements resolved: the number itself, or the auto rule for `bake.size` pixels
+/// per side. `preview` = the preview's coarser rule (applied to explicit counts too: min).
+ElementCount element_count(const Settings& s, bool preview = false);
+
+} // namespace crackle::io

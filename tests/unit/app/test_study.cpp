@@ -1,0 +1,230 @@
+// The speed-vs-accuracy study: its metrics, its closed forms (the bonded film on the plane, the
+// cylinder and the sphere, checked against the FEM runs), its argument checks, and the quick
+// study end to end through the real binary (CSV and charts produced and well formed).
+#include "app/study.hpp"
+#include "app/study_metrics.hpp"
+#include "app/study_plan.hpp"
+#include "core/error.hpp"
+#include "core/json.hpp"
+#include "io/png.hpp"
+#include "support/cli_runner.hpp"
+
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+using namespace crackle;
+namespace fs = std::filesystem;
+
+namespace {
+
+std::vector<std::map<std::string, std::string>> read_csv(const fs::path& path) {
+    std::ifstream in(path);
+    std::string line;
+    std::vector<std::string> header;
+    std::vector<std::map<std::string, std::string>> rows;
+    auto split = [](const std::string& l) {
+        std::vector<std::string> cells;
+        std::stringstream s(l);
+        std::string c;
+        while (std::getline(s, c, ','))
+            cells.push_back(c);
+        if (!l.empty() && l.back() == ',') cells.emplace_back();
+        return cells;
+    };
+    if (std::getline(in, line)) header = split(line);
+    while (std::getline(in, line)) {
+        const auto cells = split(line);
+        REQUIRE(cells.size() == header.size());
+        std::map<std::string, std::string> row;
+        for (std::size_t i = 0; i < cells.size(); ++i)
+            row[header[i]] = cells[i];
+        rows.push_back(row);
+    }
+    return rows;
+}
+
+/// simulate's first-crack time for a film scene run with `method` at `elements`.
+double first_crack(const std::string& scene, const std::string& method, int elements) {
+    const fs::path dir = test::scratch_dir("study-film");
+    std::vector<std::string> args = {"-q", "simulate", app::scene_preset(scene)};
+    for (const auto& o : app::scene_overrides(scene))
+        args.insert(args.end(), {"--set", o});
+    for (const auto& o : app::method_overrides(method))
+        args.insert(args.end(), {"--set", o});
+    args.insert(args.end(),
+                {"--set", "simulation.elements=" + std::to_string(elements), "--json", (dir / "r.json").string()});
+    const auto r = test::run_cli(args);
+    REQUIRE(r.code == 0);
+    const Json report = Json::parse(test::slurp(dir / "r.json"), "r.json");
+    return report.find("first_event_time")->as_number();
+}
+
+} // namespace
+
+TEST_SUITE("app") {
+    TEST_CASE("json: parse reads back what dump writes, and names the byte of an error") {
+        Json j = Json::object();
+        j["name"] = "mud \"tile\"\n\u00e9";
+        j["count"] = 42;
+        j["ratio"] = -1.25e-3;
+        j["flags"] = Json::array();
+        j["flags"].push_back(true);
+        j["flags"].push_back(Json());
+        j["nested"]["x"] = 1.5;
+        const Json back = Json::parse(j.dump(), "test");
+        CHECK(back.dump() == j.dump());
+        CHECK(back.find("count")->as_number() == 42);
+        CHECK(back.find("flags")->elements().size() == 2);
+        CHECK(Json::parse("\"\\u00e9\\ud83d\\ude00\"", "t").as_string() == "\u00e9\U0001F600");
+        for (const char* bad : {"{\"a\": }", "[1, 2", "{\"a\" 1}", "tru", "\"open", "1 2", "{\"a\":1,}"}) {
+            CAPTURE(bad);
+            CHECK_THROWS_WITH_AS(Json::parse(bad, "bad.json"), doctest::Contains("bad.json"), InputError);
+        }
+    }
+
+    TEST_CASE("study: the pattern distance is 0 at the reference, |z| for one statistic, and uses the floors") {
+        const auto scales = app::pattern_scales("mud");
+        std::vector<app::StatMap> runs = {
+            {{"crack_length_per_area", 70.0}, {"t_junction_fraction", 0.88}, {"tortuosity", 1.02}},
+            {{"crack_length_per_area", 80.0}, {"t_junction_fraction", 0.96}, {"tortuosity", 1.02}},
+        };
+        const app::SceneReference ref = app::make_scene_reference("cmd", 32000, {1, 2}, runs, scales);
+        // Log statistics: the geometric mean and the spread of the logs.
+        CHECK(ref.stats.at("crack_length_per_area").mean == doctest::Approx(std::sqrt(70.0 * 80.0)));
+        CHECK(ref.stats.at("crack_length_per_area").spread
+              == doctest::Approx(std::abs(std::log(80.0) - std::log(70.0)) / std::sqrt(2.0)));
+        CHECK(ref.stats.at("t_junction_fraction").spread == doctest::Approx(0.08 / std::sqrt(2.0)));
+        CHECK(ref.stats.at("tortuosity").spread == 0.0);
+        // At the reference's means the distance is 0.
+        app::StatMap at_mean = {
+            {"crack_length_per_area", std::sqrt(70.0 * 80.0)}, {"t_junction_fraction", 0.92}, {"tortuosity", 1.02}};
+        CHECK(app::pattern_distance(at_mean, ref, scales) == doctest::Approx(0.0).epsilon(1e-12));
+        // One statistic off by two spreads: √(4/3) over the three compared.
+        app::StatMap off = at_mean;
+        off["t_junction_fraction"] = 0.92 + 2 * 0.08 / std::sqrt(2.0);
+        CHECK(app::pattern_distance(off, ref, scales) == doctest::Approx(std::sqrt(4.0 / 3.0)));
+        // A statistic the seeds agree on is measured against its floor (0.01 for tortuosity).
+        off = at_mean;
+        off["tortuosity"] = 1.05;
+        CHECK(app::pattern_distance(off, ref, scales) == doctest::Approx(std::sqrt(9.0 / 3.0)));
+        // Bark leaves the fragment statistics out; nothing comparable gives −1.
+        for (const auto& s : app::pattern_scales("bark"))
+            CHECK(s.key.find("fragment") == std::string::npos);
+        CHECK(app::pattern_distance({{"unknown", 1.0}}, ref, scales) == -1.0);
+        // The reference survives its JSON.
+        const app::Reference both = {{"mud", ref}};
+        const app::Reference back =
+            app::reference_from_json(Json::parse(app::reference_to_json(both).dump(), "ref"), "ref");
+        CHECK(back.at("mud").stats.at("t_junction_fraction").values == ref.stats.at("t_junction_fraction").values);
+        CHECK(app::pattern_distance(off, back.at("mud"), scales) == doctest::Approx(std::sqrt(3.0)));
+    }
+
+    TEST_CASE("study: the arrest height is a low percentile of the crack events above the seam band") {
+        std::string csv = "time,x,y,z,u,v,kind,ratio\n";
+        for (int i = 0; i < 100; ++i) // events from v = 0.5 to 0.995, plus seam crossers near v = 0
+            csv += "0.5,0,0,0,0.5," + std::to_string(0.5 + 0.005 * i) + ",extend,1\n";
+        csv += "0.6,0,0,0,0.5,0.02,extend,1\n0.6,0,0,0,0.5,0.3,arrest,0\n";
+        CHECK(app::arrest_height(csv) == doctest::Approx(0.525).epsilon(0.01));
+        CHECK(app::arrest_height("time,x,y,z,u,v,kind,ratio\n") == -1.0);
+    }
+
+    TEST_CASE("study: a bonded shrinking film cracks at the closed-form time on the plane, and at the thick-shell "
+              "(Lame) time on the cylinder and the sphere") {
+        // The thick-shell factor: 1 on a flat layer (R → ∞), below 1 and linear in h/R on curved ones.
+        CHECK(app::curved_film_stress_factor(true, 1e6, 0.01, 0.3, 1e6) == doctest::Approx(1.0).epsilon(1e-6));
+        CHECK(app::curved_film_stress_factor(false, 1e6, 0.01, 0.3, 1e6) == doctest::Approx(1.0).epsilon(1e-6));
+        const double s30 = 1 - app::curved_film_stress_factor(true, 0.3, 0.01, 0.3, 0.3);
+        const double s60 = 1 - app::curved_film_stress_factor(true, 0.6, 0.01, 0.3, 0.6);
+        CHECK(s30 > 0.01);
+        CHECK(s30 / s60 == doctest::Approx(2.0).epsilon(0.05));
+        // The sphere's stress falls from the bottom of the layer to its free top.
+        CHECK(app::curved_film_stress_factor(true, 0.3, 0.01, 0.3, 0.31)
+              < app::curved_film_stress_factor(true, 0.3, 0.01, 0.3, 0.3));
+
+        const double flat = app::film_first_crack_time(1e7, 0.3, 2e4, 0.003);
+        CHECK(flat == doctest::Approx(0.46666667));
+        for (const char* method : {"fem-split", "fem-remove", "graph-fem"}) {
+            CAPTURE(method);
+            CHECK(first_crack("film", method, 800) == doctest::Approx(flat).epsilon(1e-6));
+            // Curved: one wedge through the thickness samples the stress between the bottom and the
+            // top of the layer; the first crack lies between the two fibres' closed-form times
+            // (within 2 % for the flat facets at 2000 elements, h/R ≈ 1/30).
+            const double R_cyl = 2.0 / (2 * 3.14159265358979), R_sph = 0.3, h = 0.01;
+            const double cyl = first_crack("film-cylinder", method, 2000);
+            const double cyl_lo = flat / app::curved_film_stress_factor(false, R_cyl, h, 0.3, R_cyl);
+            const double cyl_hi = flat / app::curved_film_stress_factor(false, R_cyl, h, 0.3, R_cyl + h);
+            CHECK(cyl > cyl_lo * 0.98);
+            CHECK(cyl < cyl_hi * 1.02);
+            const double sph = first_crack("film-sphere", method, 2000);
+            const double sph_lo = flat / app::curved_film_stress_factor(true, R_sph, h, 0.3, R_sph);
+            const double sph_hi = flat / app::curved_film_stress_factor(true, R_sph, h, 0.3, R_sph + h);
+            CHECK(sph > sph_lo * 0.98);
+            CHECK(sph < sph_hi * 1.02);
+            // ... and later than the flat film's, which ignores the relief of the free top.
+            CHECK(sph > flat * 1.01);
+        }
+    }
+
+    TEST_CASE("study: unknown methods and scenes are refused before anything runs") {
+        const fs::path out = test::scratch_dir("study-args");
+        auto r = test::run_cli({"bench", "--methods", "fem-splt", "--out", (out / "a").string(), "--no-charts"});
+        CHECK(r.code == 2);
+        CHECK(r.err.find("did you mean 'fem-split'") != std::string::npos);
+        CHECK(r.err.find("graph-fem") != std::string::npos);
+        CHECK(!fs::exists(out / "a"));
+        r = test::run_cli({"bench", "--scenes", "mud,clay", "--out", (out / "b").string(), "--no-charts"});
+        CHECK(r.code == 2);
+        CHECK(r.err.find("unknown scene 'clay'") != std::string::npos);
+        CHECK(!fs::exists(out / "b"));
+        r = test::run_cli({"bench", "--seeds", "0", "--no-charts"});
+        CHECK(r.code == 2);
+    }
+
+    TEST_CASE("study: the quick study writes a row per planned run, seed-averaged points, and three charts") {
+        const fs::path out = test::scratch_dir("study-quick");
+        const std::string cmd = std::string(CRACKLE_BINARY) + " -q bench --quick --out '" + out.string() + "' > '"
+                                + (out.parent_path() / "study-quick.log").string() + "' 2>&1";
+        REQUIRE(std::system(cmd.c_str()) == 0);
+        const auto runs = read_csv(out / "runs.csv");
+        const auto plan = app::study_plan(app::study_scenes(), app::study_methods(), 1, true);
+        REQUIRE(runs.size() == plan.size());
+        std::map<std::string, int> per_scene;
+        for (std::size_t i = 0; i < runs.size(); ++i) {
+            const auto& row = runs[i];
+            CAPTURE(row.at("scene"));
+            CAPTURE(row.at("method"));
+            CAPTURE(row.at("elements"));
+            CHECK(row.at("scene") == plan[i].scene);
+            CHECK(row.at("status") == "ok");
+            CHECK(std::stod(row.at("wall_seconds")) >= 0);
+            CHECK(std::stod(row.at("peak_memory_mb")) > 0);
+            ++per_scene[row.at("scene")];
+            // Every run has its scene's error: the closed forms, and the stored reference.
+            REQUIRE(!row.at("error").empty());
+            CHECK(std::isfinite(std::stod(row.at("error"))));
+            if (row.at("scene") == "film") CHECK(std::stod(row.at("error")) < 0.01);
+        }
+        CHECK(per_scene.size() == app::study_scenes().size());
+        const auto points = read_csv(out / "points.csv");
+        CHECK(points.size() * 1 == runs.size()); // one seed each
+        for (const char* chart : {"error_vs_time.png", "cost_vs_elements.png", "time_shares.png"}) {
+            CAPTURE(chart);
+            const std::string bytes = test::slurp(out / chart);
+            REQUIRE(bytes.size() > 1000);
+            int w = 0, h = 0;
+            const auto rgb = io::decode_png_rgb8(std::vector<std::uint8_t>(bytes.begin(), bytes.end()), w, h);
+            CHECK(w >= 800);
+            CHECK(h >= 400);
+            // Drawn, not blank: a good share of the pixels is not white.
+            std::size_t inked = 0;
+            for (std::size_t i = 0; i + 2 < rgb.size(); i += 3)
+                if (rgb[i] < 200 || rgb[i + 1] < 200 || rgb[i + 2] < 200) ++inked;
+            CHECK(double(inked) / double(w * h) > 0.01);
+        }
+        CHECK(test::slurp(out / "summary.md").find("| mud | graph-fem |") != std::string::npos);
+    }
+}

@@ -1,0 +1,81 @@
+// simulation.elements = "auto": the rule (crack spacing from the thinnest layer, the texture cap,
+// the curved-surface minimum), the preview's coarser rule, and how the key reads and refuses.
+#include "core/error.hpp"
+#include "io/preset.hpp"
+#include "io/resolution.hpp"
+#include "support/presets.hpp"
+
+#include <doctest/doctest.h>
+
+#include <cmath>
+
+using namespace crackle;
+
+namespace {
+
+using test::load;
+using test::load_error;
+
+} // namespace
+
+TEST_SUITE("io") {
+    TEST_CASE("resolution: auto follows the area over the thinnest thickness squared, a given number is kept") {
+        const double q = io::resolution_rule().elements_per_thickness_squared;
+        const io::Preset mud = load("mud", {"simulation.elements=auto", "bake.size=2048"});
+        const io::ElementCount c = io::element_count(mud);
+        CHECK(c.automatic);
+        CHECK(c.elements == std::llround(q * 0.25 / (0.01 * 0.01)));
+        CHECK(c.reason.find("h = 0.01 m") != std::string::npos);
+        // Twice the thickness: a quarter of the elements; twice the tile side: four times.
+        CHECK(io::element_count(load("mud", {"simulation.elements=auto", "material.thickness=[0.02,0.02]"})).elements
+              == std::llround(q * 0.25 / (0.02 * 0.02)));
+        CHECK(io::element_count(load("mud", {"simulation.elements=auto", "surface.size=[1.0,1.0]"})).elements
+              == std::llround(q * 1.0 / (0.01 * 0.01)));
+        // The thinner of top and bottom, lowered by a thickness variation.
+        const io::Preset varied =
+            load("mud", {"simulation.elements=auto", "material.thickness=[0.02,0.03]",
+                         "variation.thickness.pattern=gradient", "variation.thickness.amplitude=0.5"});
+        CHECK(io::element_count(varied).elements == std::llround(q * 0.25 / (0.01 * 0.01)));
+        // A number is a number.
+        const io::ElementCount fixed = io::element_count(load("mud", {"simulation.elements=1234"}));
+        CHECK(!fixed.automatic);
+        CHECK(fixed.elements == 1234);
+    }
+
+    TEST_CASE("resolution: the texture caps auto, a curved surface's minimum floors it, the preview is coarser") {
+        const double per_pixel = io::resolution_rule().pixels_per_element;
+        // A 2 mm layer over a 1 m tile wants 800k elements; a 256 px texture shows 8192.
+        const io::Preset fine = load("mud", {"simulation.elements=auto", "material.thickness=[0.002,0.002]",
+                                             "surface.size=[1.0,1.0]", "bake.size=256"});
+        const io::ElementCount capped = io::element_count(fine);
+        CHECK(capped.elements == std::llround(256.0 * 256.0 / per_pixel));
+        CHECK(capped.reason.find("capped") != std::string::npos);
+        // A thick layer on a long trunk: the rule would give a few hundred, the cylinder needs more.
+        const io::Preset trunk =
+            load("bark", {"simulation.elements=auto", "material.thickness=[0.2,0.2]", "surface.size=[0.5,50]"});
+        CHECK(io::element_count(trunk).elements == io::minimum_elements(trunk));
+        CHECK(io::minimum_elements(trunk) > 8000);
+        CHECK(io::minimum_elements(load("mud")) == 0);
+        // The preview: the coarser rule, also applied to an explicit count that is finer.
+        const io::Preset mud = load("mud", {"simulation.elements=auto"});
+        const io::ElementCount preview = io::element_count(mud, true);
+        CHECK(preview.automatic);
+        CHECK(preview.elements < io::element_count(mud).elements);
+        CHECK(io::element_count(load("mud", {"simulation.elements=50000"}), true).elements == preview.elements);
+        CHECK(io::element_count(load("mud", {"simulation.elements=500"}), true).elements == 500);
+    }
+
+    TEST_CASE("resolution: simulation.elements reads auto in TOML and --set, and refuses other words") {
+        CHECK(load("mud", {"simulation.elements=auto"}).is_auto("simulation.elements"));
+        CHECK(load("mud", {"simulation.elements=\"auto\""}).is_auto("simulation.elements"));
+        CHECK(!load("mud", {"simulation.elements=900"}).is_auto("simulation.elements"));
+        const std::string word = load_error("mud", {"simulation.elements=automatic"});
+        CHECK(word.find("simulation.elements") != std::string::npos);
+        CHECK(word.find("\"auto\" or a whole number") != std::string::npos);
+        const std::string quoted = load_error("mud", {"simulation.elements=\"many\""});
+        CHECK(quoted.find("not \"many\"") != std::string::npos);
+        CHECK(load_error("mud", {"simulation.elements=10"}).find("[32, 2000000]") != std::string::npos);
+        // A curved surface with too few elements is still refused, and pointed to auto.
+        CHECK(load_error("bark", {"simulation.elements=50"}).find("or \"auto\"") != std::string::npos);
+    }
+}
