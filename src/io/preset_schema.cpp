@@ -93,7 +93,7 @@ std::vector<KeySpec> build_schema() {
     }
     s.push_back(integer_or_auto(
         "simulation", "elements", "", 32, 2.0e6,
-        "Triangle count of the starting mesh. \"auto\" = as many as the crack spacing needs: 3.2 per "
+        "Triangle count of the starting mesh. \"auto\" = as many as the crack spacing needs: 2 per "
         "square of the thinnest layer thickness over the surface (the speed-vs-accuracy study's rule, "
         "docs/benchmarks.md), capped at one per 8 texture pixels (bake.size), at least 400 and what a curved "
         "surface needs. A number = exactly that many (more = finer crack detail and slower); a cylinder or sphere "

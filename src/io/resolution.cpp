@@ -31,19 +31,24 @@ std::int64_t minimum_elements(const Settings& s) {
 
 namespace {
 
-/// The thinnest the layer gets: the smaller of top and bottom, lowered by a thickness variation.
-double thinnest(const Settings& s) {
+/// The thickness h whose square sets the element count: the thinnest the layer gets on a uniform
+/// mesh (the smaller end of the ramp, lowered by a variation); with simulation.density =
+/// "thickness" the mesh follows the thickness, so the count is the area integral of 1/h², and for
+/// the linear ramp from t₀ to t₁ the mean of 1/h² is 1/(t₀·t₁).
+double resolving_thickness(const Settings& s) {
     const auto& t = s.numbers("material.thickness");
-    double h = *std::min_element(t.begin(), t.end());
-    if (s.text("variation.thickness.pattern") != "none") h *= 1.0 - s.number("variation.thickness.amplitude");
-    return h;
+    const double t0 = t.front(), t1 = t.back();
+    const double lowered =
+        s.text("variation.thickness.pattern") != "none" ? 1.0 - s.number("variation.thickness.amplitude") : 1.0;
+    if (s.text("simulation.density") == "thickness") return std::sqrt(t0 * t1) * lowered;
+    return std::min(t0, t1) * lowered;
 }
 
 } // namespace
 
 ElementCount element_count(const Settings& s, bool preview) {
     const ResolutionRule& rule = resolution_rule();
-    const double h = thinnest(s), area = surface_area(s);
+    const double h = resolving_thickness(s), area = surface_area(s);
     const double q = preview ? rule.preview_elements_per_thickness_squared : rule.elements_per_thickness_squared;
     const double pixels = sqr(double(s.integer("bake.size")));
     const double cap = pixels / rule.pixels_per_element;

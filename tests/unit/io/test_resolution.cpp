@@ -36,6 +36,9 @@ TEST_SUITE("io") {
             load("mud", {"simulation.elements=auto", "material.thickness=[0.02,0.03]",
                          "variation.thickness.pattern=gradient", "variation.thickness.amplitude=0.5"});
         CHECK(io::element_count(varied).elements == std::llround(q * 0.25 / (0.01 * 0.01)));
+        // A mesh that follows the thickness (1 → 4 cm): the area integral of 1/h², 1/(t₀·t₁) on the ramp.
+        CHECK(io::element_count(load("mud/thickness-gradient", {"simulation.elements=auto"})).elements
+              == std::llround(q * 0.25 / (0.01 * 0.04)));
         // A number is a number.
         const io::ElementCount fixed = io::element_count(load("mud", {"simulation.elements=1234"}));
         CHECK(!fixed.automatic);
