@@ -1,9 +1,9 @@
 // Height, normal, albedo and material channels of one texel.
-in vec2 v_uv;
-in float v_height;
-in vec3 v_normal;
+centroid in vec2 v_uv;
+centroid in float v_height;
+centroid in vec3 v_normal;
 flat in int v_fragment;
-in float v_crack;
+centroid in float v_crack;
 
 uniform vec3 u_color;            // linear RGB of the top surface
 uniform vec3 u_crack_color;      // linear RGB of crack walls and floor

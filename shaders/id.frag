@@ -1,9 +1,9 @@
 // A flat colour per piece, black on the crack floor (the _ID map; no anti-aliasing).
 flat in int v_fragment;
-in vec2 v_uv;
-in float v_height;
-in vec3 v_normal;
-in float v_crack;
+centroid in vec2 v_uv;
+centroid in float v_height;
+centroid in vec3 v_normal;
+centroid in float v_crack;
 
 uniform uint u_seed;
 
