@@ -98,6 +98,15 @@ std::vector<double> distance_to_lips(const mesh::SurfaceMesh& m) {
 }
 
 /// Metres per unit of u and v at a point of the reference surface.
+/// u measured from `from`'s side of the sphere's date line (u wraps there; on periodic
+/// surfaces the mesh already carries the shifts).
+double unwrap_u(double u, double from, bool periodic) {
+    if (periodic) return u;
+    if (u - from > 0.5) return u - 1.0;
+    if (u - from < -0.5) return u + 1.0;
+    return u;
+}
+
 Vec2 metric_at(const mesh::Surface& s, const Vec3& p0) {
     if (s.periodic()) return s.period();
     const double lat_cos = std::max(1e-3, std::sqrt(sqr(p0.x()) + sqr(p0.y())) / std::max(p0.norm(), 1e-300));
@@ -238,7 +247,12 @@ PieceMesh build_pieces(const fracture::CrackPattern& p, const PostOptions& o) {
             const PieceVertex &a = out.vertices[tri[0]], &b = out.vertices[tri[1]], &c = out.vertices[tri[2]];
             const Vec2 m = metric_at(surface, p.surface.periodic() ? Vec3(Vec3::Zero())
                                                                    : Vec3(a.position.normalized() * surface.radius()));
-            auto tex = [&](const PieceVertex& q) { return Vec3(q.uv.x() * m.x(), q.uv.y() * m.y(), q.height); };
+            // On the sphere u wraps at the date line: measure each corner's u from a's side, or a
+            // triangle across the seam spans the whole texture backwards and its normal points
+            // into the surface (the seam columns of _NormalGL did).
+            auto tex = [&](const PieceVertex& q) {
+                return Vec3(unwrap_u(q.uv.x(), a.uv.x(), p.surface.periodic()) * m.x(), q.uv.y() * m.y(), q.height);
+            };
             const Vec3 nt = (tex(b) - tex(a)).cross(tex(c) - tex(a));
             const Vec3 nw = (b.position - a.position).cross(c.position - a.position);
             for (std::uint32_t i : tri) {
@@ -257,7 +271,9 @@ PieceMesh build_pieces(const fracture::CrackPattern& p, const PostOptions& o) {
         // q: top a, top b, bottom b, bottom a. Flat normal, facing out of the piece.
         PieceVertex a = q[0], b = q[1], c = q[2], d = q[3];
         const Vec2 m = out.tile_size;
-        auto tex = [&](const PieceVertex& v) { return Vec3(v.uv.x() * m.x(), v.uv.y() * m.y(), v.height); };
+        auto tex = [&](const PieceVertex& v) {
+            return Vec3(unwrap_u(v.uv.x(), a.uv.x(), p.surface.periodic()) * m.x(), v.uv.y() * m.y(), v.height);
+        };
         Vec3 nt = (tex(b) - tex(a)).cross(tex(d) - tex(a));
         Vec3 nw = (b.position - a.position).cross(d.position - a.position);
         // Outward is to the right of a → b seen from above.
