@@ -1,16 +1,20 @@
-// A flat colour per piece, black on the crack floor (the _ID map; no anti-aliasing).
+// One piece per texel (no anti-aliasing): the _ID map's colour (black on the crack floor) and
+// the layers the CPU passes shape the maps from.
 flat in int v_fragment;
-centroid in vec2 v_uv;
 centroid in float v_height;
-centroid in vec3 v_normal;
 centroid in float v_crack;
+centroid in float v_weight;
+centroid in float v_age;
 
 uniform uint u_seed;
 
-layout(location = 0) out vec4 o_id;
+layout(location = 0) out vec4 o_id;     // rgb: a colour per piece
+layout(location = 1) out vec4 o_layers; // r: piece label (−1 floor), g: crack, b: crack weight, a: crack age
 
 void main()
 {
+    bool crack = v_crack > 0.5;
+    o_layers = vec4(float(v_fragment), crack ? 1.0 : 0.0, v_weight, v_age);
     if (v_fragment < 0) {
         o_id = vec4(0.0, 0.0, 0.0, 1.0);
         return;

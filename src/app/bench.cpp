@@ -327,8 +327,8 @@ Json bench_bake(const std::vector<int>& sizes, std::ostream& out) {
         << "|---:|---:|---:|---:|---:|---:|---:|---:|\n";
     Json rows = Json::array();
     for (int size : sizes) {
-        render::BakeOptions o = bake_options(preset);
-        o.size = size;
+        render::BakeOptions o = bake_options(preset, pieces);
+        o.width = o.height = size;
         Timer t;
         const render::TextureSet set = render::bake(pieces, o, context);
         const double bake_seconds = t.seconds();

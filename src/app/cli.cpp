@@ -75,13 +75,22 @@ int run(int argc, const char* const* argv, std::ostream& out, std::ostream& err)
     add_preset_options(simulate, sim_args.preset);
 
     // === bake
+    const CLI::Validator map_size_check(
+        [](const std::string& text) {
+            return parse_map_size(text) ? std::string()
+                                        : "expected the longer side in pixels (2048) or width x height (2048x1024), "
+                                          "16 to 16384 each";
+        },
+        "N|WxH");
     BakeArgs bake_args;
     bake_args.preset.name_or_path = "bark";
     CLI::App* bake = app.add_subcommand("bake", "Run the whole pipeline and bake the texture set (PNG maps)");
     bake->add_option("PRESET", bake_args.preset.name_or_path, "Built-in preset name or .toml path")
         ->capture_default_str();
-    bake->add_option("--size", bake_args.size, "Texture size in pixels (overrides bake.size)")
-        ->check(CLI::Range(16, 16384));
+    bake->add_option("--size", bake_args.size,
+                     "Texture size in pixels: the longer side (2048), or width x height (2048x1024); overrides "
+                     "bake.size")
+        ->check(map_size_check);
     bake->add_option("--out", bake_args.out_dir, "Output folder (default: out)");
     bake->add_option("--json", bake_args.json_path, "Write the report as JSON");
     bake->add_flag("--preview", bake_args.preview, "Quick look: 512 px, 2 samples");
@@ -102,8 +111,8 @@ int run(int argc, const char* const* argv, std::ostream& out, std::ostream& err)
         ->check(CLI::IsMember({"obj", "gltf", "glb"}))
         ->capture_default_str();
     exp->add_option("--out", export_args.out_path, "Output file (default: out/<name>.<format>)");
-    exp->add_option("--size", export_args.size, "Map size in pixels (overrides bake.size)")
-        ->check(CLI::Range(16, 16384));
+    exp->add_option("--size", export_args.size, "Map size in pixels: N or WxH (overrides bake.size)")
+        ->check(map_size_check);
     exp->add_option("--json", export_args.json_path, "Write the report as JSON");
     exp->add_option("--shader-dir", export_args.shader_dir, "Read the GLSL shaders from this folder");
     add_preset_options(exp, export_args.preset);

@@ -262,7 +262,7 @@ Baked bake_pipeline(const io::Preset& preset, StepTimes& times, const std::strin
     render::GlContext context;
     times.emplace_back("gl_context", step.seconds());
     step.reset();
-    render::BakeOptions options = bake_options(preset);
+    render::BakeOptions options = bake_options(preset, b.pieces);
     options.shader_dir = shader_dir;
     b.maps = render::bake(b.pieces, options, context);
     times.emplace_back("bake", step.seconds());
@@ -273,12 +273,19 @@ Baked bake_pipeline(const io::Preset& preset, StepTimes& times, const std::strin
 }
 
 /// Applies the bake command's shortcuts to the preset request.
-io::PresetRequest with_bake_overrides(io::PresetRequest request, int size, bool preview) {
+io::PresetRequest with_bake_overrides(io::PresetRequest request, const std::string& size, bool preview) {
     if (preview) {
         request.overrides.insert(request.overrides.begin(), "bake.size=512");
         request.overrides.insert(request.overrides.begin(), "bake.samples=2");
     }
-    if (size > 0) request.overrides.push_back("bake.size=" + std::to_string(size));
+    if (!size.empty()) {
+        const auto parsed = parse_map_size(size);
+        if (!parsed)
+            throw InputError("--size " + size, "not a map size",
+                             "give the longer side in pixels (2048) or width x height (2048x1024), 16 to 16384 each");
+        request.overrides.push_back("bake.size=" + std::to_string(parsed->first));
+        request.overrides.push_back("bake.size_v=" + std::to_string(parsed->second));
+    }
     return request;
 }
 
@@ -296,6 +303,16 @@ io::Preset load_bake_preset(const BakeArgs& args) {
 }
 
 } // namespace
+
+std::optional<std::pair<int, int>> parse_map_size(const std::string& text) {
+    int w = 0, h = 0;
+    char x = 0, extra = 0;
+    const int n = std::sscanf(text.c_str(), "%d%c%d%c", &w, &x, &h, &extra);
+    auto ok = [](int side) { return side >= 16 && side <= 16384; };
+    if (n == 1 && ok(w)) return std::make_pair(w, 0);
+    if (n == 3 && (x == 'x' || x == 'X') && ok(w) && ok(h)) return std::make_pair(w, h);
+    return std::nullopt;
+}
 
 int simulate_command(const SimulateArgs& args, const GlobalOptions& global, std::ostream& out) {
     Timer total;
@@ -348,7 +365,9 @@ int bake_command(const BakeArgs& args, const GlobalOptions& global, std::ostream
     times.emplace_back("total", total.seconds());
     Json report = simulation_report(preset, b.sim, times);
     report["command"] = "bake";
-    report["size"] = b.maps.size;
+    report["size"] = std::max(b.maps.width, b.maps.height_px);
+    report["width"] = b.maps.width;
+    report["height"] = b.maps.height_px;
     report["displacement_scale_m"] = b.maps.height_scale;
     report["files"] = files;
     if (!args.json_path.empty()) output.write(args.json_path, report.dump());
@@ -356,7 +375,8 @@ int bake_command(const BakeArgs& args, const GlobalOptions& global, std::ostream
 
     if (!global.quiet) {
         out << "crackle bake: " << preset.name << " (" << mesh::to_string(b.sim.scene->surface.kind()) << ", "
-            << b.sim.pattern.method << "), seed " << b.sim.scene->seed << ", " << b.maps.size << " px\n";
+            << b.sim.pattern.method << "), seed " << b.sim.scene->seed << ", " << b.maps.width << "×"
+            << b.maps.height_px << " px\n";
         print_simulation(out, preset, b.sim);
         out << "  maps         " << maps.size() << " files in " << dir.string() << "/ (" << name
             << "_Color.png ...); displacement 1.0 = " << fmt("%.4g", b.maps.height_scale * 1000) << " mm\n";
@@ -433,7 +453,8 @@ int export_command(const ExportArgs& args, const GlobalOptions& global, std::ost
     output.commit();
     if (!global.quiet) {
         out << "crackle export: " << preset.name << " -> " << file.string() << " (" << mesh.positions.size() / 3
-            << " vertices, " << mesh.indices.size() / 3 << " triangles, " << b.maps.size << " px maps)\n";
+            << " vertices, " << mesh.indices.size() / 3 << " triangles, " << b.maps.width << "×" << b.maps.height_px
+            << " px maps)\n";
         print_times(out, times);
     }
     return 0;

@@ -40,13 +40,17 @@ int simulate_command(const SimulateArgs& args, const GlobalOptions& global, std:
 
 struct BakeArgs {
     io::PresetRequest preset;
-    int size = 0;           ///< --size (0 = bake.size)
+    std::string size;       ///< --size N or WxH ("" = bake.size)
     bool preview = false;   ///< --preview: 512 px, 2 samples
     bool watch = false;     ///< --watch: re-bake the preview whenever the preset file changes
     std::string shader_dir; ///< read GLSL from here instead of the embedded copies
     std::string out_dir;    ///< "" = out/
     std::string json_path;
 };
+
+/// "2048" → (2048, 0): the longer side; "2048x1024" → (2048, 1024). Empty optional when the text
+/// is neither or a side is outside 16..16384 pixels.
+std::optional<std::pair<int, int>> parse_map_size(const std::string& text);
 
 /// `crackle bake`: the whole pipeline to a texture set.
 int bake_command(const BakeArgs& args, const GlobalOptions& global, std::ostream& out);
@@ -55,7 +59,7 @@ struct ExportArgs {
     io::PresetRequest preset;
     std::string format = "glb"; ///< obj | gltf | glb
     std::string out_path;       ///< "" = out/<name>.<format>
-    int size = 0;               ///< map size (0 = bake.size)
+    std::string size;           ///< --size N or WxH ("" = bake.size)
     std::string json_path;
     std::string shader_dir;
 };

@@ -4,6 +4,7 @@
 #include "io/png.hpp"
 
 #include <cmath>
+#include <tuple>
 
 namespace crackle::app {
 
@@ -97,18 +98,31 @@ Vec3 linear_from_srgb(const std::vector<double>& c) {
 }
 } // namespace
 
-render::BakeOptions bake_options(const io::Preset& preset) {
+render::BakeOptions bake_options(const io::Preset& preset, const post::PieceMesh& pieces) {
     render::BakeOptions o;
-    o.size = static_cast<int>(preset.integer("bake.size"));
+    std::tie(o.width, o.height) = render::map_pixels(pieces, static_cast<int>(preset.integer("bake.size")),
+                                                     static_cast<int>(preset.integer("bake.size_v")));
     o.samples = static_cast<int>(preset.integer("bake.samples"));
-    o.color = linear_from_srgb(preset.numbers("bake.color"));
-    o.crack_color = linear_from_srgb(preset.numbers("bake.crack_color"));
-    o.color_variation = preset.number("bake.color_variation");
-    o.grain = preset.number("bake.grain");
-    o.grain_size = preset.number("bake.grain_size");
-    o.grain_stretch = preset.number("bake.grain_stretch");
-    o.roughness = preset.number("bake.roughness");
-    o.roughness_variation = preset.number("bake.roughness_variation");
+    render::ShadingOptions& s = o.shading;
+    s.color = linear_from_srgb(preset.numbers("bake.color"));
+    s.crack_color = linear_from_srgb(preset.numbers("bake.crack_color"));
+    s.color_variation = preset.number("bake.color_variation");
+    s.grain = preset.number("bake.grain");
+    s.grain_size = preset.number("bake.grain_size");
+    s.grain_stretch = preset.number("bake.grain_stretch");
+    s.roughness = preset.number("bake.roughness");
+    s.roughness_variation = preset.number("bake.roughness_variation");
+    s.cavity = preset.number("bake.cavity");
+    render::ReliefOptions& r = o.relief;
+    r.crack_width = preset.number("bake.crack_width");
+    r.crack_depth = preset.number("bake.crack_depth");
+    r.crack_shape = preset.number("bake.crack_shape");
+    r.fibre = {preset.number("bake.fibre_depth"), preset.number("bake.fibre_size"),
+               preset.number("bake.fibre_stretch")};
+    r.flake = {preset.number("bake.flake_depth"), preset.number("bake.flake_size"),
+               preset.number("bake.flake_stretch")};
+    r.grit = {preset.number("bake.grit_depth"), preset.number("bake.grit_size"), 1.0};
+    o.crack_age = preset.number("bake.crack_age");
     o.ao_radius = preset.number("bake.ao_radius");
     o.ao_strength = preset.number("bake.ao_strength");
     o.seed = static_cast<std::uint32_t>(preset.integer("simulation.seed") & 0xffffffff);

@@ -12,8 +12,8 @@
 
 namespace crackle::io {
 
-std::vector<std::uint8_t> encode_exr_gray(const std::vector<float>& pixels, int size) {
-    Imf::Header header(size, size);
+std::vector<std::uint8_t> encode_exr_gray(const std::vector<float>& pixels, int width, int height) {
+    Imf::Header header(width, height);
     header.channels().insert("Y", Imf::Channel(Imf::FLOAT));
     header.compression() = Imf::ZIP_COMPRESSION;
     Imf::StdOSStream stream;
@@ -22,21 +22,22 @@ std::vector<std::uint8_t> encode_exr_gray(const std::vector<float>& pixels, int 
         Imf::OutputFile file(stream, header);
         Imf::FrameBuffer fb;
         fb.insert("Y", Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(const_cast<float*>(pixels.data())), sizeof(float),
-                                  sizeof(float) * static_cast<std::size_t>(size)));
+                                  sizeof(float) * static_cast<std::size_t>(width)));
         file.setFrameBuffer(fb);
-        file.writePixels(size);
+        file.writePixels(height);
     }
     const std::string s = stream.str();
     return std::vector<std::uint8_t>(s.begin(), s.end());
 }
 
-std::vector<float> decode_exr_gray(const std::vector<std::uint8_t>& bytes, int& size) {
+std::vector<float> decode_exr_gray(const std::vector<std::uint8_t>& bytes, int& size, int* rows) {
     Imf::StdISStream stream;
     stream.str(std::string(bytes.begin(), bytes.end()));
     Imf::InputFile file(stream);
     const Imath::Box2i dw = file.header().dataWindow();
     size = dw.max.x - dw.min.x + 1;
     const int height = dw.max.y - dw.min.y + 1;
+    if (rows) *rows = height;
     std::vector<float> pixels(static_cast<std::size_t>(size) * static_cast<std::size_t>(height));
     Imf::FrameBuffer fb;
     fb.insert("Y", Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(pixels.data()), sizeof(float),

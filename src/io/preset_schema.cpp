@@ -154,15 +154,23 @@ std::vector<KeySpec> build_schema() {
                       "tops pull back from the cracks, which open into V-shaped grooves. Solved with the wedge FEM."));
     s.push_back(number("post", "bevel", 0.0, "m", 0.0, 1.0, "Radius of the rounding of crack lips; 0 = sharp edges."));
     // === [bake]
-    s.push_back(integer("bake", "size", 2048, "px", 16, 16384, "Texture size in pixels per side."));
+    s.push_back(integer("bake", "size", 2048, "px", 16, 16384,
+                        "Texture size in pixels: the longer side; the other side follows the surface's shape in "
+                        "metres, so texels are square (a sphere bakes 2:1 equirectangular). With bake.size_v set, "
+                        "the width."));
+    s.push_back(integer("bake", "size_v", 0, "px", 0, 16384,
+                        "Pixels along v (rows) when set; 0 = follow the surface's shape. `--size 2048x512` sets "
+                        "both."));
     s.push_back(integer("bake", "samples", 4, "", 1, 16, "Anti-aliasing samples per pixel (MSAA); 1 = none."));
     s.push_back(
         boolean("bake", "exr", false, "Also write the displacement as a 32-bit float OpenEXR file, in metres."));
-    s.push_back(array("bake", "color", {0.55, 0.45, 0.35}, 3, 3, "sRGB", 0.0, 1.0,
-                      "Albedo of the top surface, sRGB [r, g, b] in 0..1."));
+    s.push_back(
+        array("bake", "color", {0.55, 0.45, 0.35}, 3, 3, "sRGB", 0.0, 1.0,
+              "Albedo of the top surface (ridges, plates), sRGB [r, g, b] in 0..1; a little darker lower down."));
     s.push_back(array("bake", "crack_color", {0.12, 0.1, 0.08}, 3, 3, "sRGB", 0.0, 1.0,
                       "Albedo of crack walls and floors, sRGB [r, g, b] in 0..1; darker with depth."));
-    s.push_back(number("bake", "color_variation", 0.3, "", 0.0, 1.0, "How much each piece's brightness and hue vary."));
+    s.push_back(number("bake", "color_variation", 0.3, "", 0.0, 1.0,
+                       "How much each piece's brightness (and, slightly, hue) varies."));
     s.push_back(number("bake", "grain", 0.15, "", 0.0, 1.0,
                        "Strength of a tiling fine-grain variation in the albedo (0 = flat colour per piece)."));
     s.push_back(number("bake", "grain_size", 0.02, "m", 1e-4, 10.0, "Feature size of the grain across u."));
@@ -174,6 +182,35 @@ std::vector<KeySpec> build_schema() {
     s.push_back(number("bake", "ao_radius", 0.0, "m", 0.0, 10.0,
                        "Reach of the ambient occlusion; 0 = twice the layer's height."));
     s.push_back(number("bake", "ao_strength", 1.0, "", 0.0, 4.0, "Darkening of the ambient occlusion map."));
+    // Relief: crack grooves and micro-relief (render/relief.cpp)
+    s.push_back(number("bake", "crack_width", 0.0, "m", 0.0, 1.0,
+                       "How far the first (widest) cracks round down into the plates: the width of a furrow's "
+                       "side. Later cracks get less (bake.crack_age). 0 = only post.bevel. Bark: 0.005–0.02."));
+    s.push_back(number("bake", "crack_depth", 0.0, "", 0.0, 1.0,
+                       "How deep the first cracks cut at the lip, as a share of the layer's height: 1 = furrows "
+                       "down to the ground, 0 = only post.bevel."));
+    s.push_back(number("bake", "crack_shape", 0.0, "", 0.0, 1.0,
+                       "Profile of the plates' edges: 0 = V-shaped grooves (the lip slopes gently down), 1 = "
+                       "rounded ridges (the plate stays high and drops steeply into the furrow, as on bark)."));
+    s.push_back(number("bake", "crack_age", 0.6, "", 0.0, 1.0,
+                       "How much finer the last cracks are than the first (0 = all alike; 1 = the last are "
+                       "hairlines). Cracks keep opening after they form, so early ones are wide."));
+    s.push_back(number("bake", "fibre_depth", 0.0, "m", 0.0, 0.1,
+                       "Height of fibrous streaks along v (bark fibres); 0 = none."));
+    s.push_back(number("bake", "fibre_size", 0.004, "m", 1e-4, 1.0, "Spacing of the fibres across u."));
+    s.push_back(
+        number("bake", "fibre_stretch", 8.0, "", 0.1, 100.0, "How many times longer fibres are along v than across."));
+    s.push_back(number("bake", "flake_depth", 0.0, "m", 0.0, 0.1,
+                       "Height of flaky scales (cells of random height with sunken edges); 0 = none."));
+    s.push_back(number("bake", "flake_size", 0.02, "m", 1e-4, 1.0, "Size of the flakes across u."));
+    s.push_back(
+        number("bake", "flake_stretch", 1.0, "", 0.1, 100.0, "How many times longer flakes are along v than across."));
+    s.push_back(number("bake", "grit_depth", 0.0, "m", 0.0, 0.1,
+                       "Height of fine isotropic grit (sand in mud, glaze pitting); 0 = none."));
+    s.push_back(number("bake", "grit_size", 0.002, "m", 1e-4, 1.0, "Feature size of the grit."));
+    s.push_back(number("bake", "cavity", 0.5, "", 0.0, 1.0,
+                       "How much crevices darken the colour map (the occlusion baked into the albedo, as in "
+                       "scanned textures)."));
     s.push_back(
         text("bake", "name", "", "Base name of the map files (<name>_Color.png, ...); empty = the preset's name."));
     return s;

@@ -27,10 +27,10 @@ EncodedMap encode_orm(const render::TextureSet& set);
 /// "<dir>/<name>_<suffix>.<ext>"
 std::filesystem::path map_path(const std::filesystem::path& dir, const std::string& name, const EncodedMap& map);
 
-/// 32-bit float single-channel EXR ("Y") of a size × size image, row 0 at the top.
-std::vector<std::uint8_t> encode_exr_gray(const std::vector<float>& pixels, int size);
+/// 32-bit float single-channel EXR ("Y") of a width × height image, row 0 at the top.
+std::vector<std::uint8_t> encode_exr_gray(const std::vector<float>& pixels, int width, int height);
 
-/// Reads an EXR written by encode_exr_gray (for round-trip tests).
-std::vector<float> decode_exr_gray(const std::vector<std::uint8_t>& bytes, int& size);
+/// Reads an EXR written by encode_exr_gray (for round-trip tests): its width, and its rows.
+std::vector<float> decode_exr_gray(const std::vector<std::uint8_t>& bytes, int& width, int* rows = nullptr);
 
 } // namespace crackle::io

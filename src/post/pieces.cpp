@@ -2,6 +2,7 @@
 
 #include "core/error.hpp"
 #include "core/log.hpp"
+#include "post/crack_times.hpp"
 #include "sim/fem_model.hpp"
 
 #include <map>
@@ -122,6 +123,10 @@ PieceMesh build_pieces(const fracture::CrackPattern& p, const PostOptions& o) {
     out.periodic = surface.periodic();
     out.tile_size = surface.periodic() ? surface.period() : Vec2(TWO_PI * surface.radius(), PI * surface.radius());
     out.fragments = p.num_fragments;
+    out.post_curl = o.curl;
+    out.post_curl_width = o.curl_width;
+    out.post_bevel = o.bevel;
+    const CrackTimes times = crack_times(p);
 
     // === 1. Pieces: one vertex copy per fragment
     const PieceTopology topo = split_by_fragment(p);
@@ -176,7 +181,8 @@ PieceMesh build_pieces(const fracture::CrackPattern& p, const PostOptions& o) {
     struct Top {
         Vec2 uv; // canonical (before corner offsets)
         double height;
-        Vec3 world; // canonical copy
+        double base; // before curl and lip rounding
+        Vec3 world;  // canonical copy
         Vec3 bottom_world;
         Vec2 bottom_uv;
         double bottom_height;
@@ -201,6 +207,7 @@ PieceMesh build_pieces(const fracture::CrackPattern& p, const PostOptions& o) {
         const Vec2 uv0 = surface.periodic() ? surface.uv_of_domain(topo.mesh.domain[vertex_id(v)]) : surface.uv(P0);
         t.uv = uv0 + Vec2(du / metric.x(), dv / metric.y());
         t.height = std::max(0.0, h_sim + w[v].dot(f0.n) + lift[v] - bevel_drop[v]);
+        t.base = std::max(0.0, h_sim + w[v].dot(f0.n));
         t.world = bottom + G * (du * f0.e_u + dv * f0.e_v) + (t.height) * n_final;
         t.bottom_world = bottom + lift[v] * n_final;
         t.bottom_uv = uv0;
@@ -223,6 +230,7 @@ PieceMesh build_pieces(const fracture::CrackPattern& p, const PostOptions& o) {
         PieceVertex pv;
         pv.uv = tops[v].uv + corner_shift_uv(off);
         pv.height = tops[v].height;
+        pv.base_height = tops[v].base;
         pv.position = tops[v].world + world_shift(off);
         pv.fragment = topo.fragment[v];
         pv.crack = 0.0f;
@@ -239,6 +247,13 @@ PieceMesh build_pieces(const fracture::CrackPattern& p, const PostOptions& o) {
         out.triangles.push_back(tri);
     }
     out.top_triangles = out.triangles.size();
+    {
+        double length = 0;
+        for (const auto& tri : out.triangles)
+            for (std::size_t k = 0; k < 3; ++k)
+                length += (out.vertices[tri[k]].position - out.vertices[tri[(k + 1) % 3]].position).norm();
+        out.element_size = out.triangles.empty() ? 0.0 : length / (3.0 * double(out.triangles.size()));
+    }
 
     // Smooth normals over each piece's top (texture frame and world).
     {
@@ -293,6 +308,7 @@ PieceMesh build_pieces(const fracture::CrackPattern& p, const PostOptions& o) {
         }
         out.triangles.push_back({base, base + 1, base + 2});
         out.triangles.push_back({base, base + 2, base + 3});
+        out.lips.push_back({base, base + 1});
     };
     // A crack that does not go through the layer (mass-spring with several layers, §4.3) has
     // walls down to its depth only and a floor there: each lip carries a ledge half the crack
@@ -340,6 +356,11 @@ PieceMesh build_pieces(const fracture::CrackPattern& p, const PostOptions& o) {
             std::array<PieceVertex, 4> q;
             q[0] = out.vertices[emit_top(va, face.offset[ka])];
             q[1] = out.vertices[emit_top(vb, face.offset[kb])];
+            for (std::size_t j = 0; j < 2; ++j) {
+                q[j].crack_time =
+                    crack ? static_cast<float>(times.edge[static_cast<std::size_t>(crack - p.cracks.data())]) : 0.0f;
+                q[j].crack_opening = crack ? static_cast<float>(crack->opening) : 0.0f;
+            }
             bool partial = false;
             for (int s = 0; s < 2; ++s) {
                 const std::size_t v = s == 0 ? vb : va;
@@ -351,6 +372,9 @@ PieceMesh build_pieces(const fracture::CrackPattern& p, const PostOptions& o) {
                 PieceVertex bot;
                 bot.uv = top.uv + share * (tops[v].bottom_uv + corner_shift_uv(off) - top.uv);
                 bot.height = top.height + share * (tops[v].bottom_height - top.height);
+                bot.base_height = (1.0 - share) * top.base_height;
+                bot.crack_time = top.crack_time;
+                bot.crack_opening = top.crack_opening;
                 bot.position = top.position + share * (tops[v].bottom_world + world_shift(off) - top.position);
                 bot.fragment = topo.fragment[v];
                 q[static_cast<std::size_t>(2 + s)] = bot;
@@ -385,6 +409,7 @@ PieceMesh build_pieces(const fracture::CrackPattern& p, const PostOptions& o) {
             fv.normal = Vec3::UnitZ();
             fv.fragment = -1;
             fv.crack = 1.0f;
+            fv.crack_time = static_cast<float>(times.removed[fi]);
             out.vertices.push_back(fv);
         }
         out.triangles.push_back({base, base + 1, base + 2});

@@ -36,16 +36,26 @@ struct PieceVertex {
     Vec3 world_normal = Vec3::UnitZ();
     int fragment = -1; ///< piece label; −1 on the crack floor
     float crack = 0;   ///< 0 on top surfaces, 1 on walls and the crack floor
+    /// The height before curl and lip rounding (m): baking shapes lips and curl per pixel from
+    /// the distance to the crack instead of per vertex (no triangular halos along cracks).
+    double base_height = 0;
+    float crack_time = 0;    ///< walls and floor: when the crack formed, 0 = first, 1 = last
+    float crack_opening = 0; ///< walls and floor: the simulated opening (m; 0 if not simulated)
 };
 
 struct PieceMesh {
     std::vector<PieceVertex> vertices;
     std::vector<std::array<std::uint32_t, 3>> triangles;
+    /// The top edge of every crack wall (a crack lip), as vertex pairs: baking draws them as
+    /// lines so that closed cracks (split elements that have not opened) still show.
+    std::vector<std::array<std::uint32_t, 2>> lips;
     mesh::SurfaceKind kind = mesh::SurfaceKind::Plane;
     bool periodic = true;
     /// Metres per unit of u and v in the reference tile (the sphere: at the equator).
     Vec2 tile_size = Vec2::Ones();
-    double max_height = 0; ///< the tallest point (m): the displacement map's full scale
+    double max_height = 0;   ///< the tallest point (m): the displacement map's full scale
+    double element_size = 0; ///< mean top edge length (m): the scale of the simulation's facets
+    double post_curl = 0, post_curl_width = 3.0, post_bevel = 0; ///< the PostOptions that shaped it
     int fragments = 0;
     std::size_t top_triangles = 0, wall_triangles = 0, floor_triangles = 0;
 };

@@ -368,6 +368,32 @@ TEST_SUITE("app") {
         CHECK_FALSE(fs::exists("/proc/crackle-no-such-dir"));
     }
 
+    TEST_CASE("cli: --size N is the longer side with square texels, --size WxH is exact, bad sizes exit 2") {
+        CHECK(run_cli({"bake", "mud", "--size", "10x64"}).code == 2);
+        CHECK(run_cli({"bake", "mud", "--size", "64x"}).code == 2);
+        CHECK(run_cli({"bake", "mud", "--size", "64x32x2"}).code == 2);
+        CHECK(contains(run_cli({"bake", "mud", "--size", "64y32"}).err, "--size"));
+        if (!test::gl_context_or_skip()) return;
+        const auto dir = test::scratch_dir("cli-bake-size");
+        auto dimensions = [&](const std::vector<std::string>& extra) {
+            std::vector<std::string> args = {
+                "-q",    "bake",      "mud", "--set", "simulation.elements=300", "--set", "simulation.tip_submodel=0",
+                "--out", dir.string()};
+            args.insert(args.end(), extra.begin(), extra.end());
+            const auto r = run_cli(args);
+            REQUIRE_MESSAGE(r.code == 0, r.err);
+            const std::string bytes = test::slurp(dir / "mud_Color.png");
+            int w = 0, h = 0;
+            io::decode_png_rgb8(std::vector<std::uint8_t>(bytes.begin(), bytes.end()), w, h);
+            return std::make_pair(w, h);
+        };
+        CHECK(dimensions({"--size", "64"}) == std::make_pair(64, 64));
+        CHECK(dimensions({"--size", "96x48"}) == std::make_pair(96, 48));
+        // A plane twice as wide as tall: square texels by default.
+        CHECK(dimensions({"--size", "64", "--set", "surface.size=[0.4,0.2]"}) == std::make_pair(64, 32));
+        CHECK(dimensions({"--size", "64", "--set", "surface.size=[0.2,0.4]"}) == std::make_pair(32, 64));
+    }
+
     TEST_CASE("cli: export writes OBJ and glTF and GLB with their maps") {
         if (!test::gl_context_or_skip()) return;
         const auto dir = test::scratch_dir("cli-export");

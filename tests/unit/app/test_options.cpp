@@ -61,17 +61,31 @@ TEST_SUITE("app") {
         CHECK(post.shrink_bottom == post_default.shrink_bottom);
         CHECK(post.bevel == post_default.bevel);
 
-        const render::BakeOptions bake = app::bake_options(p), bake_default;
-        CHECK(bake.size == bake_default.size);
+        const post::PieceMesh square; // a square tile: bake.size is both sides
+        const render::BakeOptions bake = app::bake_options(p, square), bake_default;
+        CHECK(bake.width == bake_default.width);
+        CHECK(bake.height == bake_default.height);
         CHECK(bake.samples == bake_default.samples);
-        CHECK((bake.color - bake_default.color).norm() < 1e-4); // sRGB in the schema, linear here
-        CHECK((bake.crack_color - bake_default.crack_color).norm() < 1e-4);
-        CHECK(bake.color_variation == bake_default.color_variation);
-        CHECK(bake.grain == bake_default.grain);
-        CHECK(bake.grain_size == bake_default.grain_size);
-        CHECK(bake.grain_stretch == bake_default.grain_stretch);
-        CHECK(bake.roughness == bake_default.roughness);
-        CHECK(bake.roughness_variation == bake_default.roughness_variation);
+        const render::ShadingOptions &s = bake.shading, &s0 = bake_default.shading;
+        CHECK((s.color - s0.color).norm() < 1e-4); // sRGB in the schema, linear here
+        CHECK((s.crack_color - s0.crack_color).norm() < 1e-4);
+        CHECK(s.color_variation == s0.color_variation);
+        CHECK(s.grain == s0.grain);
+        CHECK(s.grain_size == s0.grain_size);
+        CHECK(s.grain_stretch == s0.grain_stretch);
+        CHECK(s.roughness == s0.roughness);
+        CHECK(s.roughness_variation == s0.roughness_variation);
+        CHECK(s.cavity == s0.cavity);
+        const render::ReliefOptions &r = bake.relief, &r0 = bake_default.relief;
+        CHECK(r.crack_width == r0.crack_width);
+        CHECK(r.crack_depth == r0.crack_depth);
+        CHECK(r.crack_shape == r0.crack_shape);
+        for (const auto& [layer, layer0] : {std::pair{r.fibre, r0.fibre}, {r.flake, r0.flake}, {r.grit, r0.grit}}) {
+            CHECK(layer.depth == layer0.depth);
+            CHECK(layer.size == layer0.size);
+            CHECK(layer.stretch == layer0.stretch);
+        }
+        CHECK(bake.crack_age == bake_default.crack_age);
         CHECK(bake.ao_radius == bake_default.ao_radius);
         CHECK(bake.ao_strength == bake_default.ao_strength);
         CHECK(bake.seed == bake_default.seed);

@@ -134,11 +134,12 @@ TEST_SUITE("io") {
         }
     }
 
-    TEST_CASE("export: 16-bit displacement PNGs and float EXRs read back exactly") {
+    TEST_CASE("export: 16-bit displacement PNGs and float EXRs read back exactly, non-square too") {
         render::TextureSet set;
-        set.size = 16;
+        set.width = 16;
+        set.height_px = 8; // 2:1, like the sphere's equirectangular maps
         set.height_scale = 0.02;
-        const std::size_t px = 256;
+        const std::size_t px = 128;
         for (std::size_t i = 0; i < px; ++i)
             set.height.push_back(static_cast<float>(0.02 * double(i * 37 % 256) / 255.0));
         set.normal.assign(3 * px, 0.0f);
@@ -161,9 +162,10 @@ TEST_SUITE("io") {
                 }
                 png = true;
             } else {
-                int size = 0;
-                const std::vector<float> back = io::decode_exr_gray(m.bytes, size);
+                int size = 0, rows = 0;
+                const std::vector<float> back = io::decode_exr_gray(m.bytes, size, &rows);
                 REQUIRE(size == 16);
+                REQUIRE(rows == 8);
                 for (std::size_t i = 0; i < px; ++i)
                     REQUIRE(back[i] == set.height[i]);
                 exr = true;

@@ -2,7 +2,7 @@
 // [0, displacement_scale_m]: with multisampling, a pixel whose centre lies outside a triangle that
 // covers some of its samples used to extrapolate the triangle's height to the centre, which along
 // steep crack walls gave -16..+20 mm on a 14 mm layer (needles in the EXR, clipped in the PNG).
-// Plane, cylinder and sphere.
+// Plane, cylinder and sphere; and each preset uses the range (not a plateau with ink lines).
 #include "core/json.hpp"
 #include "io/png.hpp"
 #include "io/texture_set.hpp"
@@ -46,6 +46,21 @@ TEST_SUITE("render") {
             for (std::size_t i = 0; i < exr.size(); ++i)
                 worst = std::max(worst, std::abs(double(png.pixels[i]) * scale - double(exr[i])));
             CHECK(worst <= scale / 65535.0 + 1e-9); // the PNG's quantisation, nothing clipped
+
+            // The range is used: cracks reach down, tops reach full scale; bark's furrows cover a
+            // good part of the trunk (its median used to sit at 95 % of the range: a plateau).
+            std::vector<float> sorted(png.pixels);
+            std::sort(sorted.begin(), sorted.end());
+            auto quantile = [&](double q) { return double(sorted[static_cast<std::size_t>(q * (sorted.size() - 1))]); };
+            CAPTURE(quantile(0.01));
+            CAPTURE(quantile(0.5));
+            CAPTURE(quantile(0.99));
+            CHECK(quantile(0.01) < 0.5);
+            CHECK(quantile(0.99) > 0.85);
+            if (std::string(preset) == "bark") {
+                CHECK(quantile(0.5) < 0.75);
+                CHECK(quantile(0.25) < 0.5);
+            }
         }
     }
 }

@@ -2,7 +2,9 @@
 // texture-frame normal from u values a whole texture apart, so it pointed into the surface and
 // smoothing spread that over the seam's neighbours (4.7 % of fruit's _NormalGL, the left and
 // right columns almost entirely). Now no normal points inward and the seam columns look like the
-// rest of the map.
+// rest of the map. The map is equirectangular 2:1, and the pole rows (covered by no triangle:
+// the triangles around a pole have no image in the map) are filled from the nearest plate
+// instead of being painted as crack.
 #include "io/png.hpp"
 #include "support/cli_runner.hpp"
 #include "support/gl_support.hpp"
@@ -27,6 +29,7 @@ TEST_SUITE("render") {
             int w = 0, h = 0;
             const auto rgb = io::decode_png_rgb8(std::vector<std::uint8_t>(bytes.begin(), bytes.end()), w, h);
             REQUIRE(w == 256);
+            REQUIRE(h == 128); // 2:1 equirectangular
             auto z = [&](int x, int y) {
                 return 2.0
                            * rgb[3
@@ -40,7 +43,7 @@ TEST_SUITE("render") {
             int inward = 0;
             double seam = 0, middle = 0;
             int n_seam = 0, n_middle = 0;
-            for (int y = 4; y < h - 4; ++y) // the pole rows are another matter
+            for (int y = 0; y < h; ++y)
                 for (int x = 0; x < w; ++x) {
                     const double zz = z(x, y);
                     if (zz < -0.05) ++inward;
@@ -54,6 +57,26 @@ TEST_SUITE("render") {
                 }
             CHECK(inward == 0);
             CHECK(seam / n_seam == doctest::Approx(middle / n_middle).epsilon(0.05));
+
+            // The crack mask: the pole rows and the seam columns carry as much crack as the map does.
+            const GrayImage mask = io::read_png_gray(dir / "fruit_Mask.png");
+            REQUIRE(mask.width == w);
+            REQUIRE(mask.height == h);
+            double all = 0, seam_mask = 0;
+            for (int y = 0; y < h; ++y)
+                for (int x = 0; x < w; ++x) {
+                    all += mask.at(x, y) / (double(w) * h);
+                    if (x < 4 || x >= w - 4) seam_mask += mask.at(x, y) / (8.0 * h);
+                }
+            for (int row : {0, h - 1}) {
+                double m = 0;
+                for (int x = 0; x < w; ++x)
+                    m += mask.at(x, row) / w;
+                CAPTURE(row);
+                CAPTURE(all);
+                CHECK(m < 2.0 * all + 0.05);
+            }
+            CHECK(seam_mask == doctest::Approx(all).epsilon(0.5));
         }
     }
 }

@@ -1,0 +1,63 @@
+"""Previews and the contact sheet of samples/ from baked texture sets (called by scripts/gallery).
+
+usage: gallery.py WORK OUT
+WORK holds commands.tsv (preset, folder, command, seconds) and, per preset, the folder of maps
+and <folder>.json (the bake report). OUT receives <folder>.jpg (colour beside a lit render of
+the relief, 256 px each), contact-sheet.jpg and README.md.
+"""
+import json
+import os
+import sys
+
+from PIL import Image, ImageDraw
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from lit_preview import font, lit_relief  # noqa: E402  (the guide's lit render and font: one definition)
+
+PANEL = 256
+
+
+def panel(image):
+    w, h = image.size
+    return image.resize((PANEL, max(1, round(PANEL * h / w))), Image.LANCZOS)
+
+
+def main(work, out):
+    os.makedirs(out, exist_ok=True)
+    rows = [line.rstrip("\n").split("\t") for line in open(os.path.join(work, "commands.tsv")) if line.strip()]
+    label_font = font(13)
+    tiles, table = [], []
+    for preset, folder, command, seconds in rows:
+        maps = os.path.join(work, folder)
+        name = next(f[: -len("_Color.png")] for f in os.listdir(maps) if f.endswith("_Color.png"))
+        report = json.load(open(os.path.join(work, folder + ".json")))
+        seed = report.get("seed", "?")
+        color = panel(Image.open(f"{maps}/{name}_Color.png").convert("RGB"))
+        lit = panel(lit_relief(f"{maps}/{name}", None))
+        preview = Image.new("RGB", (2 * PANEL, max(color.size[1], PANEL // 2)), "white")
+        preview.paste(color, (0, 0))
+        preview.paste(lit, (PANEL, 0))
+        preview.save(os.path.join(out, folder + ".jpg"), quality=85)
+        tiles.append((preset, f"{command} --seed {seed}", preview))
+        table.append(f"| `{preset}` | ![{preset}]({folder}.jpg) | `{command} --seed {seed}` | {seconds} s |")
+    columns = 3
+    label = 32
+    cell_h = max(t[2].size[1] for t in tiles) + label
+    sheet = Image.new("RGB", (columns * 2 * PANEL, ((len(tiles) + columns - 1) // columns) * cell_h), "white")
+    draw = ImageDraw.Draw(sheet)
+    for k, (preset, command, preview) in enumerate(tiles):
+        x, y = (k % columns) * 2 * PANEL, (k // columns) * cell_h
+        sheet.paste(preview, (x, y + label))
+        draw.text((x + 4, y + 2), preset, fill="black", font=label_font)
+        draw.text((x + 4, y + 15), command, fill=(90, 90, 90), font=label_font)
+    sheet.save(os.path.join(out, "contact-sheet.jpg"), quality=82)
+    with open(os.path.join(out, "README.md"), "w") as f:
+        f.write("# Samples\n\nEvery built-in preset baked at 512 px with its own seed: the colour map beside a "
+                "lit render of its relief (normal map lit from the upper left, times the occlusion map). "
+                "Regenerate with `scripts/gallery` (about 15 minutes; not part of the tests).\n\n"
+                "![contact sheet](contact-sheet.jpg)\n\n| preset | preview | command | bake time |\n|---|---|---|---|\n")
+        f.write("\n".join(table) + "\n")
+
+
+if __name__ == "__main__":
+    main(sys.argv[1], sys.argv[2])

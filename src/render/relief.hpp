@@ -1,0 +1,54 @@
+#pragma once
+/// @file The relief of the maps, shaped per pixel from the raster layers:
+///  1. the simulated height smoothed within the plates (its linear triangles would otherwise
+///     show as facets in the normal map);
+///  2. crack lips rounded down into grooves whose reach and depth follow the nearest crack's
+///     weight (its age and simulated opening: first cracks wide and deep, last ones fine),
+///     measured with an exact distance transform (no triangular halos where a lip vertex dropped);
+///  3. curled rims (post.curl) lifted by the same distance;
+///  4. micro-relief: fibres, flakes and grit as tiling noise in metres.
+/// Heights stay within [0, max]: the displacement's one documented range.
+
+#include "render/raster.hpp"
+
+#include <cstdint>
+#include <vector>
+
+namespace crackle::render {
+
+/// One tiling noise layer of micro-relief.
+struct DetailLayer {
+    double depth = 0;   ///< amplitude (m); 0 = off
+    double size = 0.01; ///< feature size (m) across u
+    double stretch = 1; ///< features this many times longer along v
+};
+
+struct ReliefOptions {
+    double crack_width = 0; ///< m: how far the first cracks' lips round down into the plates
+    double crack_depth = 0; ///< 0..1: share of the layer height the groove cuts down at the lip
+    double crack_shape = 0; ///< 0 = V-shaped grooves (lips drop softly), 1 = rounded ridges (lips drop steeply)
+    double bevel = 0;       ///< post.bevel (m): the least rounding of every lip
+    double curl = 0, curl_width = 3; ///< post.curl, post.curl_width (layer thicknesses)
+    double element_size = 0;         ///< m: the simulation's facet size (smoothing scale)
+    DetailLayer fibre{0, 0.004, 8}, flake{0, 0.02, 1}, grit{0, 0.002, 1};
+    std::uint32_t seed = 1;
+};
+
+struct Relief {
+    std::vector<float> height;   ///< m, in [0, max]
+    std::vector<float> groove;   ///< 0 on plate tops, 1 in the crack: how far down into a groove
+    std::vector<float> coverage; ///< share of the pixel's neighbourhood in a crack (a soft crack edge)
+    std::vector<float> age;      ///< the nearest crack's age: 1 = the first crack, 0 = the last
+    std::vector<float> detail;   ///< micro-relief, −1..1 (for shading)
+    std::vector<float> flake;    ///< the flake's random number, 0..1 (for shading)
+};
+
+Relief shape_relief(const RasterLayers& layers, const ReliefOptions& options);
+
+/// Normalised convolution of `values` with a Gaussian-like kernel (three box passes each
+/// way) of about `sigma_px` pixels, counting only pixels with mask[i] != 0; wraps in u, and in
+/// v when grid.wrap_v. Pixels with no masked neighbour keep their value.
+std::vector<float> masked_blur(const PixelGrid& grid, const std::vector<float>& values,
+                               const std::vector<std::uint8_t>& mask, double sigma_px);
+
+} // namespace crackle::render
