@@ -9,19 +9,13 @@
 ///  4. micro-relief: fibres, flakes and grit as tiling noise in metres.
 /// Heights stay within [0, max]: the displacement's one documented range.
 
+#include "render/detail.hpp"
 #include "render/raster.hpp"
 
 #include <cstdint>
 #include <vector>
 
 namespace crackle::render {
-
-/// One tiling noise layer of micro-relief.
-struct DetailLayer {
-    double depth = 0;   ///< amplitude (m); 0 = off
-    double size = 0.01; ///< feature size (m) across u
-    double stretch = 1; ///< features this many times longer along v
-};
 
 struct ReliefOptions {
     double crack_width = 0; ///< m: how far the first cracks' lips round down into the plates
@@ -44,6 +38,10 @@ struct Relief {
 };
 
 Relief shape_relief(const RasterLayers& layers, const ReliefOptions& options);
+
+/// A Gaussian-like blur (three box passes each way) of about `sigma_px` pixels; wraps in u,
+/// and in v when grid.wrap_v.
+std::vector<float> blur(const PixelGrid& grid, const std::vector<float>& values, double sigma_px);
 
 /// Normalised convolution of `values` with a Gaussian-like kernel (three box passes each
 /// way) of about `sigma_px` pixels, counting only pixels with mask[i] != 0; wraps in u, and in
