@@ -455,7 +455,7 @@ void apply_pattern_scale(Preset& p) {
     const KeySpec* spec = find_key("material.thickness");
     const PresetValue& from = p.entry("material.pattern_scale");
     check(*spec, t, from.source.text() + " (material.pattern_scale sets material.thickness)");
-    p.set("material.thickness", PresetValue{t, from.source, from.base_dir});
+    p.set("material.thickness", PresetValue{t, {"material.pattern_scale at " + from.source.text(), 0}, from.base_dir});
 }
 
 } // namespace

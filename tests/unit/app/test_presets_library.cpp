@@ -164,7 +164,7 @@ TEST_SUITE("app") {
         const io::Preset mud = test::load("mud", {"material.pattern_scale=0.05"});
         CHECK(mud.numbers("material.thickness")[0] == doctest::Approx(0.05 / plane));
         CHECK(mud.numbers("material.thickness")[1] == doctest::Approx(0.05 / plane));
-        CHECK(mud.entry("material.thickness").source.text() == "--set");
+        CHECK(mud.entry("material.thickness").source.text() == "material.pattern_scale at --set");
         const io::Preset bark = test::load("bark", {"material.pattern_scale=0.04"});
         CHECK(bark.numbers("material.thickness")[0] == doctest::Approx(0.04 / cylinder));
         const io::Preset ramp = test::load("mud/thickness-gradient", {"material.pattern_scale=0.1"});
