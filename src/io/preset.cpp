@@ -441,7 +441,35 @@ void check_consistency(const Preset& p) {
     }
 }
 
+/// material.pattern_scale > 0 replaces material.thickness by the thickness whose measured crack
+/// spacing is the pattern scale, keeping a ramp's shape (both ends scaled to the wanted mean).
+void apply_pattern_scale(Preset& p) {
+    const double scale = p.number("material.pattern_scale");
+    if (scale <= 0) return;
+    const PresetValue& thickness = p.entry("material.thickness");
+    std::vector<double> t = std::get<std::vector<double>>(thickness.value);
+    const double mean = 0.5 * (t[0] + t[1]);
+    const double wanted = scale / pattern_spacing_per_thickness(p.text("surface.kind"));
+    for (double& x : t)
+        x *= wanted / mean;
+    const KeySpec* spec = find_key("material.thickness");
+    const PresetValue& from = p.entry("material.pattern_scale");
+    check(*spec, t, from.source.text() + " (material.pattern_scale sets material.thickness)");
+    p.set("material.thickness", PresetValue{t, {"material.pattern_scale at " + from.source.text(), 0}, from.base_dir});
+}
+
 } // namespace
+
+double pattern_spacing_per_thickness(const std::string& surface_kind) {
+    // Crack spacing per layer thickness, the mean over seeds 1 and 2 at three or four thicknesses
+    // of each surface's default preset (docs/presets-library.md, "Pattern scale").
+    constexpr double PLANE = 2.65;    // mud, 1–3 cm: 2.56–2.82
+    constexpr double CYLINDER = 1.93; // bark, 1–3 cm: 1.78–2.12
+    constexpr double SPHERE = 3.7;    // sphere/isogonic, 4–8 mm on a 5 cm radius: 3.52–3.95
+    if (surface_kind == "cylinder") return CYLINDER;
+    if (surface_kind == "sphere") return SPHERE;
+    return PLANE;
+}
 
 Preset load_preset(const PresetRequest& request) {
     Values values;
@@ -471,6 +499,7 @@ Preset load_preset(const PresetRequest& request) {
             preset.set(spec.name(), by_default);
         }
     }
+    apply_pattern_scale(preset);
     check_consistency(preset);
     return preset;
 }

@@ -61,6 +61,11 @@ struct PresetRequest {
 /// "<file>:<line>: <what> (<how to fix>)" on any problem.
 Preset load_preset(const PresetRequest& request);
 
+/// material.pattern_scale's calibration: the crack spacing ((2 − anisotropy) / crack density)
+/// per layer thickness measured on the default preset of a surface kind (plane: mud, cylinder:
+/// bark; docs/presets-library.md). A pattern scale s sets the mean thickness to s / ratio.
+double pattern_spacing_per_thickness(const std::string& surface_kind);
+
 /// Built-in preset names (embedded presets/ folder), sorted.
 std::vector<std::string> builtin_preset_names();
 /// First comment line of a built-in preset (its one-line summary), or "".

@@ -60,6 +60,14 @@ std::vector<KeySpec> build_schema() {
                       "Layer thickness [start, end], linear along v (the trunk's axis). Thicker layers give "
                       "fewer, wider cracks and larger plates (Fig. 5.29).",
                       true));
+    s.push_back(number("material", "pattern_scale", 0.0, "m", 0.0, 100.0,
+                       "Artist control: the typical plate or fissure spacing, in metres ((2 − anisotropy) / crack "
+                       "density: 2/ρ for a network, 1/ρ for parallel fissures). When above 0 it sets "
+                       "material.thickness (which it overrides) to this spacing over the ratio measured on the "
+                       "default presets: 2.65 thicknesses on a plane (mud), 1.93 on a cylinder (bark), 3.7 "
+                       "on a sphere (the isogonic skin); a thickness ramp keeps its shape, scaled to that mean. "
+                       "Other materials (threshold, shrinkage, toughness) space their cracks differently, so "
+                       "treat it as a starting point. 0 = off: material.thickness applies."));
     s.push_back(array("material", "shrinkage", {0.0, 0.0}, 2, 2, "1/time", -10.0, 10.0,
                       "Shrinkage rates [top, bottom] of the layer (§3.3.2), s(t) = rate·t; negative = expansion. "
                       "Drying mud shrinks faster at the top."));

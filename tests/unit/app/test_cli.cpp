@@ -408,22 +408,4 @@ TEST_SUITE("app") {
             if (std::string(format) == "obj") CHECK(fs::exists(dir / "tile.mtl"));
         }
     }
-
-    TEST_CASE("cli: every built-in preset bakes at tiny resolution") {
-        if (!test::gl_context_or_skip()) return;
-        const auto dir = test::scratch_dir("cli-every-preset");
-        const auto list = run_cli({"presets", "list"});
-        std::istringstream is(list.out);
-        std::string line;
-        int count = 0;
-        while (std::getline(is, line)) {
-            const std::string name = line.substr(0, line.find(' '));
-            CAPTURE(name);
-            const auto r = run_cli({"-q", "bake", name, "--size", "32", "--set", "simulation.elements=300", "--out",
-                                    (dir / std::to_string(count)).string()});
-            CHECK_MESSAGE(r.code == 0, r.err);
-            ++count;
-        }
-        CHECK(count >= 4);
-    }
 }
