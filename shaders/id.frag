@@ -14,7 +14,8 @@ layout(location = 1) out vec4 o_layers; // r: piece label (−1 floor), g: crack
 void main()
 {
     bool crack = v_crack > 0.5;
-    o_layers = vec4(float(v_fragment), crack ? 1.0 : 0.0, v_weight, v_age);
+    // g: 0 plate, 1 crack wall or floor, 2 a lip line
+    o_layers = vec4(float(v_fragment), v_crack > 1.5 ? 2.0 : (crack ? 1.0 : 0.0), v_weight, v_age);
     if (v_fragment < 0) {
         o_id = vec4(0.0, 0.0, 0.0, 1.0);
         return;

@@ -22,9 +22,8 @@ Cells cells_of(const DetailLayer& layer, double tile_u, double tile_v) {
 /// Adds one noise layer to `out`: eval(u, v, flake) returns its height (m) and may set the flake
 /// number. Evaluated every `step` pixels, step the largest of 4, 2, 1 that keeps six samples
 /// across the layer's finest cell (`finest_px`) and divides the map exactly (so it tiles), then
-/// interpolated bilinearly with wrapping (flakes, being cells, take the nearest sample's
-/// number); heights fade with a short row near a sphere's pole, where the texture-space noise
-/// would otherwise turn into steep streaks.
+/// interpolated bilinearly with wrapping (every layer is continuous, flakes included); heights fade with a short row
+/// near a sphere's pole, where the texture-space noise would otherwise turn into steep streaks.
 template <typename Eval>
 void add_layer(const PixelGrid& g, double finest_px, bool flakes, Detail& out, const Eval& eval) {
     int step = 1;
@@ -68,8 +67,13 @@ void add_layer(const PixelGrid& g, double finest_px, bool flakes, Detail& out, c
                 (1 - fy) * ((1 - fx) * at(r0, c0) + fx * at(r0, c1)) + fy * ((1 - fx) * at(r1, c0) + fx * at(r1, c1));
             const std::size_t i = g.index(x, y);
             out.height[i] += static_cast<float>(row_scale * h);
-            if (flakes)
-                out.flake[i] = flake[(fy < 0.5 ? r0 : r1) * static_cast<std::size_t>(cw) + (fx < 0.5 ? c0 : c1)];
+            if (flakes) {
+                auto fl = [&](std::size_t r, std::size_t c) {
+                    return double(flake[r * static_cast<std::size_t>(cw) + c]);
+                };
+                out.flake[i] = static_cast<float>((1 - fy) * ((1 - fx) * fl(r0, c0) + fx * fl(r0, c1))
+                                                  + fy * ((1 - fx) * fl(r1, c0) + fx * fl(r1, c1)));
+            }
         }
     });
 }
@@ -100,9 +104,12 @@ Detail micro_relief(const PixelGrid& g, const DetailOptions& o) {
             const double wu = (fbm(u, v, warp, o.seed + 211u, 3) - 0.5) * 0.8 / flake.u;
             const double wv = (fbm(u, v, warp, o.seed + 223u, 3) - 0.5) * 0.8 / flake.v;
             const CellSample c = cellular(u + wu, v + wv, flake, o.seed + 202u);
-            const double edge = std::clamp((c.f2 - c.f1) / 0.15, 0.0, 1.0);
-            id = c.id;
-            return o.flake.depth * (0.7 * (2.0 * c.id - 1.0) + 0.3 * (2.0 * std::sqrt(edge) - 1.0));
+            // Each flake a plateau at its own height, sinking to a common level at its border:
+            // continuous (F2 − F1 is), so it can be interpolated from a coarse grid without steps.
+            const double t = std::clamp((c.f2 - c.f1) / 0.3, 0.0, 1.0);
+            const double ramp = t * t * (3.0 - 2.0 * t);
+            id = 0.5 + (c.id - 0.5) * ramp;
+            return o.flake.depth * (ramp * (0.6 + 0.4 * (2.0 * c.id - 1.0)) - 0.4);
         });
     }
     if (o.grit.depth > 0) {

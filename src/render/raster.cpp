@@ -102,7 +102,7 @@ std::vector<GpuVertex> lip_lines(const post::PieceMesh& pieces, const Weights& w
         if (!pieces.periodic) unwrap_date_line(c);
         for (auto& p : c) {
             p.fragment = -1;
-            p.crack = 1.0f;
+            p.crack = 2.0f; // a lip line (id.frag marks it apart from walls and floor)
             out.push_back(gpu(p, weights));
         }
     }
@@ -145,6 +145,7 @@ void fill_pole_rows(RasterLayers& r, const std::vector<std::uint8_t>& covered) {
         r.height[to] = r.height[from];
         r.label[to] = r.label[from];
         r.crack[to] = r.crack[from];
+        r.lip[to] = r.lip[from];
         r.weight[to] = r.weight[from];
         r.age[to] = r.age[from];
         for (std::size_t c = 0; c < 3; ++c)
@@ -209,6 +210,7 @@ RasterLayers rasterize(const post::PieceMesh& pieces, const RasterOptions& o, Gl
     r.height.assign(px, 0.0f);
     r.label.assign(px, -1);
     r.crack.assign(px, 1);
+    r.lip.assign(px, 0);
     r.weight.assign(px, 1.0f);
     r.age.assign(px, 1.0f);
     r.id.assign(3 * px, 0);
@@ -335,6 +337,7 @@ RasterLayers rasterize(const post::PieceMesh& pieces, const RasterOptions& o, Gl
         covered[i] = label > -1.5f;
         r.label[i] = label > -0.5f ? static_cast<std::int32_t>(std::lround(label)) : -1;
         r.crack[i] = label < -0.5f || layers[4 * i + 1] > 0.5f;
+        r.lip[i] = layers[4 * i + 1] > 1.5f;
         if (r.crack[i]) r.label[i] = -1;
         r.weight[i] = layers[4 * i + 2];
         r.age[i] = layers[4 * i + 3];

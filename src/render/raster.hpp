@@ -30,6 +30,7 @@ struct RasterLayers {
     std::vector<float> height;       ///< anti-aliased simulated height before curl and lip rounding (m)
     std::vector<std::int32_t> label; ///< piece under the pixel; −1 on crack walls, floor and lips
     std::vector<std::uint8_t> crack; ///< 1 on crack walls, floor, lip lines and uncovered pixels
+    std::vector<std::uint8_t> lip;   ///< 1 where a lip line was drawn (an open crack's edge, or a closed crack)
     std::vector<float> weight;       ///< crack pixels: 1 for the first, widest cracks, less for later ones
     std::vector<float> age;          ///< crack pixels: 1 = the first crack, 0 = the last
     std::vector<std::uint8_t> id;    ///< 3 per pixel: the _ID map's colour

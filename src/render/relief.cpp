@@ -6,6 +6,7 @@
 #include "core/timer.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 namespace crackle::render {
@@ -60,31 +61,32 @@ void box_columns(const PixelGrid& g, std::vector<double>& values, int r) {
 
 /// The crack flag comes from an un-antialiased pass, so the step from a crack pixel to a lip
 /// would alias (stair-stepped walls, jagged lines in the colour): pixels next to the crack's edge
-/// get their height averaged over their 3 × 3 neighbourhood ([1 2 1]² / 16), and `coverage`
-/// becomes the same average of the crack flag (a soft edge for the colour and the mask).
+/// get their height averaged over their 3 × 3 neighbourhood ([1 2 1]² / 16; wider would fill
+/// in one-pixel cracks), and `coverage` becomes the 5 × 5 binomial average ([1 4 6 4 1]² / 256)
+/// of the crack flag: a soft edge for the colour and the mask.
 void antialias_crack_edges(const PixelGrid& g, const std::vector<std::uint8_t>& crack, Relief& r) {
     const std::vector<float> height(r.height);
     r.coverage.assign(g.pixels(), 0.0f);
+    constexpr double WIDE[5] = {1, 4, 6, 4, 1}, NARROW[5] = {0, 1, 2, 1, 0};
     parallel_rows(g.height, [&](int y) {
+        int rows[5];
+        for (int k = 0; k < 5; ++k) {
+            const int yy = y + k - 2;
+            rows[k] = g.wrap_v ? (yy % g.height + g.height) % g.height : std::clamp(yy, 0, g.height - 1);
+        }
         for (int x = 0; x < g.width; ++x) {
-            double h = 0, c = 0;
-            for (int dy = -1; dy <= 1; ++dy)
-                for (int dx = -1; dx <= 1; ++dx) {
-                    int yy = y + dy;
-                    if (yy < 0 || yy >= g.height) {
-                        if (!g.wrap_v)
-                            yy = std::clamp(yy, 0, g.height - 1);
-                        else
-                            yy = (yy + g.height) % g.height;
-                    }
-                    const int xx = (x + dx + g.width) % g.width;
-                    const double weight = (dx == 0 ? 2 : 1) * (dy == 0 ? 2 : 1) / 16.0;
-                    h += weight * height[g.index(xx, yy)];
-                    c += weight * crack[g.index(xx, yy)];
+            double h = 0, c = 0, c3 = 0;
+            for (int ky = 0; ky < 5; ++ky)
+                for (int kx = 0; kx < 5; ++kx) {
+                    const std::size_t j = g.index(((x + kx - 2) % g.width + g.width) % g.width, rows[ky]);
+                    c += WIDE[kx] * WIDE[ky] / 256.0 * crack[j];
+                    const double narrow = NARROW[kx] * NARROW[ky] / 16.0;
+                    h += narrow * height[j];
+                    c3 += narrow * crack[j];
                 }
             const std::size_t i = g.index(x, y);
             r.coverage[i] = static_cast<float>(c);
-            if (c > 0 && c < 1) r.height[i] = static_cast<float>(h);
+            if (c3 > 0 && c3 < 1) r.height[i] = static_cast<float>(h);
         }
     });
 }
@@ -265,11 +267,19 @@ Relief shape_relief(const RasterLayers& layers, const ReliefOptions& o) {
             const bool has_crack = q != std::numeric_limits<std::uint32_t>::max();
             out.age[i] = has_crack ? layers.age[q] : 1.0f;
             double h = 0, groove = 1;
+            // Crack pixels go down by crack_depth (more for heavier cracks). Lip lines (an open
+            // crack's edge, or the whole of a closed one) go down from the smoothed plate height,
+            // walls and floor from their own simulated height.
             if (layers.crack[i]) {
-                h = std::max(0.0, double(layers.height[i]) * (1.0 - o.crack_depth * std::sqrt(layers.weight[i])));
+                const double base = layers.lip[i] ? double(smooth[i]) : double(layers.height[i]);
+                h = std::max(0.0, base * (1.0 - o.crack_depth * std::sqrt(layers.weight[i])));
             } else {
                 const double top = smooth[i], d = field.distance[i];
-                double drop = 0;
+                // The classes' drops combine by a soft maximum (log-sum-exp over 3 % of the layer):
+                // a hard maximum leaves a crease where one class's groove overtakes another's.
+                const double tau = std::max(0.03 * top, 1e-9);
+                double drop = 0, sum = 0, largest = 0;
+                std::array<double, 8> drops{};
                 for (std::size_t k = 0; k < distance.size(); ++k) {
                     const double dk = distance[k][i], w = class_weight[k];
                     if (!std::isfinite(dk)) continue;
@@ -279,8 +289,15 @@ Relief shape_relief(const RasterLayers& layers, const ReliefOptions& o) {
                     depth = std::min(depth, top);
                     const double t = 1.0 - std::min(dk / reach, 1.0); // 1 at the lip, 0 at full reach
                     const double v_shape = t * t, rounded = 1.0 - std::sqrt(1.0 - t * t);
-                    drop = std::max(drop, depth * ((1.0 - o.crack_shape) * v_shape + o.crack_shape * rounded));
+                    drops[k] = depth * ((1.0 - o.crack_shape) * v_shape + o.crack_shape * rounded);
+                    largest = std::max(largest, drops[k]);
                 }
+                for (std::size_t k = 0; k < distance.size(); ++k)
+                    sum += std::exp((drops[k] - largest) / tau);
+                // Never deeper than the plate: the soft maximum exceeds the largest by ≤ τ·ln 4.
+                drop = std::min(top,
+                                largest + tau * std::log(std::max(sum, 1.0)) - tau * std::log(double(distance.size())));
+                drop = std::max(drop, 0.0);
                 double lift = 0;
                 if (o.curl > 0 && std::isfinite(d)) {
                     const double curl_reach = o.curl_width * top;

@@ -55,7 +55,7 @@ TEST_SUITE("render") {
             CAPTURE(quantile(0.01));
             CAPTURE(quantile(0.5));
             CAPTURE(quantile(0.99));
-            CHECK(quantile(0.01) < 0.5);
+            CHECK(quantile(0.01) < 0.6); // cracks reach well below the tops (fruit: crack_depth 0.6)
             CHECK(quantile(0.99) > 0.85);
             if (std::string(preset) == "bark") {
                 CHECK(quantile(0.5) < 0.75);

@@ -40,6 +40,7 @@ render::RasterLayers plate(const PixelGrid& g, double top) {
     r.height.assign(g.pixels(), static_cast<float>(top));
     r.label.assign(g.pixels(), 0);
     r.crack.assign(g.pixels(), 0);
+    r.lip.assign(g.pixels(), 0);
     r.weight.assign(g.pixels(), 1.0f);
     r.age.assign(g.pixels(), 1.0f);
     r.id.assign(3 * g.pixels(), 0);
