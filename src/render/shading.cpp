@@ -45,7 +45,10 @@ std::vector<float> normals_from_height(const PixelGrid& g, const std::vector<flo
         const int down = y + 1 < g.height ? y + 1 : (g.wrap_v ? 0 : y);
         const int steps = (up != y ? 1 : 0) + (down != y ? 1 : 0);
         const double dv = g.metres_v * std::max(steps, 1);
-        const double du = 2.0 * g.metres_u[static_cast<std::size_t>(y)];
+        // On the sphere a row within a few pixels of a pole is almost no length at all: a pixel's
+        // width there is floored at 15 % of its height, or any difference along the row (the pole
+        // rows are filled column by column) would tilt the normals to the horizon (dark spots).
+        const double du = 2.0 * std::max(g.metres_u[static_cast<std::size_t>(y)], 0.15 * g.metres_v);
         for (int x = 0; x < g.width; ++x) {
             const int left = x > 0 ? x - 1 : g.width - 1, right = x + 1 < g.width ? x + 1 : 0;
             // Row y − 1 is higher in v (row 0 is the top of the image, v = 1).
