@@ -39,6 +39,9 @@ int run(int argc, const char* const* argv, std::ostream& out, std::ostream& err)
     bool quiet = false;
     app.add_flag("-v,--verbose", verbosity, "More messages (repeat for debug output)");
     app.add_flag("-q,--quiet", quiet, "Only errors; no progress bars or summaries");
+    // Global flags anywhere: `crackle bake mud -q` as well as `crackle -q bake mud` (options a
+    // subcommand does not know fall through to its parent; subcommands inherit the setting).
+    app.fallthrough();
 
     // === presets
     CLI::App* presets = app.add_subcommand("presets", "List, show or document presets");

@@ -42,6 +42,22 @@ TEST_SUITE("app") {
         CHECK(unknown.code == 2);
     }
 
+    TEST_CASE("cli: global flags are taken before or after the subcommand") {
+        // -q after the subcommand silences the summary exactly as before it does.
+        const auto before = run_cli({"-q", "mesh", "mud", "--set", "simulation.elements=300"});
+        const auto after = run_cli({"mesh", "mud", "--set", "simulation.elements=300", "-q"});
+        const auto loud = run_cli({"mesh", "mud", "--set", "simulation.elements=300"});
+        REQUIRE(before.code == 0);
+        REQUIRE(after.code == 0);
+        REQUIRE(loud.code == 0);
+        CHECK(before.out.empty());
+        CHECK(after.out.empty());
+        CHECK_FALSE(loud.out.empty());
+        // Nested subcommands too; and an unknown option is still refused with exit code 2.
+        CHECK(run_cli({"presets", "list", "-v"}).code == 0);
+        CHECK(run_cli({"mesh", "mud", "--no-such-flag"}).code == 2);
+    }
+
     TEST_CASE("cli: presets list and show and doc") {
         const auto list = run_cli({"presets", "list"});
         CHECK(list.code == 0);
