@@ -24,7 +24,17 @@ void add_preset_options(CLI::App* cmd, io::PresetRequest& request) {
         ->type_name("KEY=VALUE")
         ->allow_extra_args(false);
     cmd->add_option("--seed", request.seed, "Seed of all randomness (overrides simulation.seed)")
-        ->check(CLI::NonNegativeNumber);
+        ->type_name("N")
+        ->check(CLI::Validator(
+            [](const std::string& text) {
+                // A whole number 0 … 9·10^18 (simulation.seed's range), said in words, not as the
+                // 309-digit double a generic range check prints.
+                const bool digits =
+                    !text.empty() && text.size() <= 19 && text.find_first_not_of("0123456789") == std::string::npos;
+                if (digits && std::stoull(text) <= 9000000000000000000ULL) return std::string();
+                return "expected a whole number from 0 to 9000000000000000000, got '" + text + "'";
+            },
+            "N"));
 }
 
 } // namespace

@@ -94,6 +94,15 @@ TEST_SUITE("app") {
         CHECK(contains(set.err, "--set simulation.elements=5000000"));
         const auto seed = run_cli({"mesh", "mud", "--seed", "-4"});
         CHECK(seed.code == 2);
+        // A seed that is not a whole number in range is named in words, not as a 309-digit double.
+        for (const char* bad : {"1..10", "abc", "9000000000000000001"}) {
+            const auto r_seed = run_cli({"mesh", "mud", "--seed", bad});
+            CAPTURE(r_seed.err);
+            CHECK(r_seed.code == 2);
+            CHECK(contains(r_seed.err, "--seed"));
+            CHECK(contains(r_seed.err, "whole number"));
+            CHECK(r_seed.err.size() < 200);
+        }
     }
 
     TEST_CASE("cli: mesh works on all three surfaces and reports its figures as JSON") {
