@@ -221,8 +221,8 @@ Relief shape_relief(const RasterLayers& layers, const ReliefOptions& o) {
     // its weight says; taking only the nearest crack's weight would cut the grooves off along the
     // lines where the nearest crack changes (sharp-edged triangles at branches and tips). So the
     // weights are split into classes, class k holding the cracks of weight ≥ k / CLASSES with its
-    // own distance field (rounded up to the class's upper edge), and a pixel's drop is the largest over the classes:
-    // continuous.
+    // own distance field (its weight rounded up to the class's upper edge), and a pixel's drop
+    // combines the classes' drops smoothly (below): continuous.
     // Grooves wider than 8 pixels are shaped from distances computed at half resolution (an
     // error under a pixel, 4× less work at 4096²); the class-0 field at full resolution still
     // gives the nearest crack (its age) and the curl's distance.
@@ -267,16 +267,20 @@ Relief shape_relief(const RasterLayers& layers, const ReliefOptions& o) {
             const bool has_crack = q != std::numeric_limits<std::uint32_t>::max();
             out.age[i] = has_crack ? layers.age[q] : 1.0f;
             double h = 0, groove = 1;
-            // Crack pixels go down by crack_depth (more for heavier cracks). Lip lines (an open
-            // crack's edge, or the whole of a closed one) go down from the smoothed plate height,
-            // walls and floor from their own simulated height.
-            if (layers.crack[i]) {
-                const double base = layers.lip[i] ? double(smooth[i]) : double(layers.height[i]);
-                h = std::max(0.0, base * (1.0 - o.crack_depth * std::sqrt(layers.weight[i])));
+            // Lip lines (an open crack's edge, or the whole of a closed one) take the plates' drop at
+            // distance 0, so the line and its neighbours agree; walls and floor go down by
+            // crack_depth from their own simulated height (more for heavier cracks).
+            const double pixel_depth = o.crack_depth * std::sqrt(double(layers.weight[i]));
+            if (layers.crack[i] && layers.lip[i]) {
+                const double top = smooth[i];
+                h = top - std::min(top, std::max(o.bevel, pixel_depth * top));
+            } else if (layers.crack[i]) {
+                h = std::max(0.0, double(layers.height[i]) * (1.0 - pixel_depth));
             } else {
                 const double top = smooth[i], d = field.distance[i];
-                // The classes' drops combine by a soft maximum (log-sum-exp over 3 % of the layer):
-                // a hard maximum leaves a crease where one class's groove overtakes another's.
+                // The classes' drops combine by a log-mean-exp over 3 % of the layer: a hard maximum
+                // leaves a crease where one class's groove overtakes another's. It lies between the
+                // largest drop minus τ·ln(classes) and the largest, so never deeper than that.
                 const double tau = std::max(0.03 * top, 1e-9);
                 double drop = 0, sum = 0, largest = 0;
                 std::array<double, 8> drops{};
@@ -294,7 +298,6 @@ Relief shape_relief(const RasterLayers& layers, const ReliefOptions& o) {
                 }
                 for (std::size_t k = 0; k < distance.size(); ++k)
                     sum += std::exp((drops[k] - largest) / tau);
-                // Never deeper than the plate: the soft maximum exceeds the largest by ≤ τ·ln 4.
                 drop = std::min(top,
                                 largest + tau * std::log(std::max(sum, 1.0)) - tau * std::log(double(distance.size())));
                 drop = std::max(drop, 0.0);
