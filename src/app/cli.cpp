@@ -37,6 +37,14 @@ void add_preset_options(CLI::App* cmd, io::PresetRequest& request) {
             "N"));
 }
 
+void add_pattern_options(CLI::App* cmd, std::string& pattern_path, bool& no_cache) {
+    cmd->add_option("--pattern", pattern_path,
+                    "Use this crack pattern file (from simulate --save) instead of simulating")
+        ->type_name("FILE");
+    cmd->add_flag("--no-cache", no_cache,
+                  "Simulate even when the pattern cache holds this simulation (and do not store it)");
+}
+
 } // namespace
 
 int run(int argc, const char* const* argv, std::ostream& out, std::ostream& err) {
@@ -81,6 +89,8 @@ int run(int argc, const char* const* argv, std::ostream& out, std::ostream& err)
         ->capture_default_str();
     simulate->add_option("--json", sim_args.json_path, "Write the report (pattern statistics, timings) as JSON");
     simulate->add_option("--events", sim_args.events_path, "Write the fracture events as CSV");
+    simulate->add_option("--save", sim_args.save_path,
+                         "Write the crack pattern to this file (bake and export read it with --pattern)");
     simulate->add_option("--png", sim_args.png_path, "Write a quick preview of the crack pattern in texture space");
     simulate->add_option("--png-size", sim_args.png_size, "Preview size in pixels")
         ->check(CLI::Range(16, 8192))
@@ -112,6 +122,7 @@ int run(int argc, const char* const* argv, std::ostream& out, std::ostream& err)
                    "on; Ctrl-C stops");
     bake->add_option("--shader-dir", bake_args.shader_dir,
                      "Read the GLSL shaders from this folder (while editing them)");
+    add_pattern_options(bake, bake_args.pattern_path, bake_args.no_cache);
     add_preset_options(bake, bake_args.preset);
 
     // === export
@@ -128,6 +139,7 @@ int run(int argc, const char* const* argv, std::ostream& out, std::ostream& err)
         ->check(map_size_check);
     exp->add_option("--json", export_args.json_path, "Write the report as JSON");
     exp->add_option("--shader-dir", export_args.shader_dir, "Read the GLSL shaders from this folder");
+    add_pattern_options(exp, export_args.pattern_path, export_args.no_cache);
     add_preset_options(exp, export_args.preset);
 
     // === bench

@@ -1,5 +1,6 @@
 #include "app/commands.hpp"
 
+#include "app/pattern_store.hpp"
 #include "app/pipeline.hpp"
 #include "app/scene.hpp"
 #include "core/atomic_file.hpp"
@@ -189,6 +190,7 @@ Json simulation_report(const io::Preset& preset, const SimulationResult& r, cons
     report["wall_seconds"] = wall;
     report["peak_memory_mb"] = peak_memory_mb();
     // Beyond the fixed fields: details for researchers.
+    report["pattern_source"] = r.pattern_source;
     report["final_time"] = r.pattern.final_time;
     report["events_capped"] = r.pattern.events_capped;
     // The method's own counters (fracture::MethodResult::details), then the common ones.
@@ -247,14 +249,15 @@ struct Baked {
     render::TextureSet maps;
 };
 
-Baked bake_pipeline(const io::Preset& preset, StepTimes& times, const std::string& shader_dir) {
+Baked bake_pipeline(const io::Preset& preset, StepTimes& times, const std::string& shader_dir,
+                    const PatternOptions& pattern) {
     if (!shader_dir.empty())
         for (const char* name : {"common.glsl", "bake.vert", "bake.frag", "id.frag", "fullscreen.vert", "ao.frag"})
             if (!std::filesystem::is_regular_file(std::filesystem::path(shader_dir) / name))
                 throw InputError("--shader-dir " + shader_dir, std::string("no ") + name + " there",
                                  "point it at a copy of the shaders/ folder");
     Baked b;
-    b.sim = run_simulation(preset, times);
+    b.sim = obtain_simulation(preset, pattern, times);
     Timer step;
     b.pieces = post::build_pieces(b.sim.pattern, post_options(preset));
     times.emplace_back("post", step.seconds());
@@ -320,8 +323,10 @@ int simulate_command(const SimulateArgs& args, const GlobalOptions& global, std:
     const io::Preset preset = io::load_preset(args.preset);
     require_available_method(preset);
     const SimulationResult r = run_simulation(preset, times);
+    cache_store(preset, r); // a bake of the same simulation keys reuses it
 
     AtomicOutput output;
+    if (!args.save_path.empty()) output.write(args.save_path, pattern_file_bytes(preset, r));
     if (!args.events_path.empty()) output.write(args.events_path, events_csv(r.pattern));
     if (!args.png_path.empty()) {
         const fracture::RgbImage img = fracture::preview_image(r.pattern, args.png_size);
@@ -350,7 +355,7 @@ int bake_command(const BakeArgs& args, const GlobalOptions& global, std::ostream
     const std::string name = output_name(preset);
     const std::filesystem::path dir =
         args.out_dir.empty() ? std::filesystem::path("out") : std::filesystem::path(args.out_dir);
-    const Baked b = bake_pipeline(preset, times, args.shader_dir);
+    const Baked b = bake_pipeline(preset, times, args.shader_dir, {args.pattern_path, !args.no_cache});
 
     double encode = 0;
     const std::vector<io::EncodedMap> maps = io::encode_texture_set(b.maps, preset.flag("bake.exr"), &encode);
@@ -395,7 +400,7 @@ int export_command(const ExportArgs& args, const GlobalOptions& global, std::ost
                                                              : std::filesystem::path(args.out_path);
     const std::filesystem::path dir = file.parent_path();
     const std::string base = file.stem().string();
-    const Baked b = bake_pipeline(preset, times, args.shader_dir);
+    const Baked b = bake_pipeline(preset, times, args.shader_dir, {args.pattern_path, !args.no_cache});
 
     Timer step;
     const io::ExportMesh mesh = io::export_mesh(b.pieces);

@@ -33,6 +33,7 @@ struct SimulateArgs {
     std::string events_path; ///< CSV of fracture events
     std::string png_path;    ///< quick preview of the crack pattern in texture space
     int png_size = 512;
+    std::string save_path; ///< --save: the crack pattern file (bake/export --pattern read it)
 };
 
 /// `crackle simulate`: grow and crack the preset's surface, report the pattern statistics.
@@ -46,6 +47,8 @@ struct BakeArgs {
     std::string shader_dir; ///< read GLSL from here instead of the embedded copies
     std::string out_dir;    ///< "" = out/
     std::string json_path;
+    std::string pattern_path; ///< --pattern: bake this crack pattern file, no simulation
+    bool no_cache = false;    ///< --no-cache: neither read nor fill the pattern cache
 };
 
 /// "2048" → (2048, 0): the longer side; "2048x1024" → (2048, 1024). Empty optional when the text
@@ -62,6 +65,8 @@ struct ExportArgs {
     std::string size;           ///< --size N or WxH ("" = bake.size)
     std::string json_path;
     std::string shader_dir;
+    std::string pattern_path;
+    bool no_cache = false;
 };
 
 /// `crackle export`: the piece mesh as OBJ or glTF with its PBR maps.

@@ -20,8 +20,9 @@ struct SimulationResult {
     fracture::PatternStatistics statistics;
     fracture::RunStats run;
     std::size_t elements_initial = 0, elements_final = 0, nodes = 0;
-    Json details = Json::object(); ///< the method's own counters (fracture::MethodResult::details)
-    std::string summary;           ///< the method's line of the summary
+    Json details = Json::object();            ///< the method's own counters (fracture::MethodResult::details)
+    std::string summary;                      ///< the method's line of the summary
+    std::string pattern_source = "simulated"; ///< "simulated", "cache" or "file" (app/pattern_store.hpp)
 };
 
 /// Builds the scene and runs the preset's fracture method (fracture::make_method); appends

@@ -41,6 +41,8 @@ public:
     std::filesystem::path path(const std::string& key) const;
 
     void set(const std::string& key, PresetValue value) { m_values[key] = std::move(value); }
+    /// Every key with its value, sorted by key.
+    const std::map<std::string, PresetValue>& values() const { return m_values; }
 
     /// The fully resolved preset as TOML, every key with its unit, range, description and
     /// where its value came from.
