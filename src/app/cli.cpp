@@ -45,6 +45,21 @@ void add_pattern_options(CLI::App* cmd, std::string& pattern_path, bool& no_cach
                   "Simulate even when the pattern cache holds this simulation (and do not store it)");
 }
 
+void add_output_options(CLI::App* cmd, std::string& maps, std::string& bit_depth, std::vector<std::string>& meshes,
+                        bool& split_pieces) {
+    cmd->add_option("--maps", maps,
+                    "Maps to write (bake.maps): Color, NormalGL, NormalDX, Displacement, AmbientOcclusion, Roughness, "
+                    "Mask, ID, ORM, MaskMap")
+        ->type_name("LIST");
+    cmd->add_option("--bit-depth", bit_depth, "Bits per channel (bake.bit_depth), e.g. Displacement=16,NormalGL=16")
+        ->type_name("MAP=BITS,...");
+    cmd->add_option("--mesh", meshes, "Also write the pieces as meshes beside the maps: glb, gltf, obj")
+        ->delimiter(',')
+        ->check(CLI::IsMember({"obj", "gltf", "glb"}))
+        ->type_name("FORMATS");
+    cmd->add_flag("--pieces", split_pieces, "Meshes: each piece its own node / object named piece_<fragment>");
+}
+
 } // namespace
 
 int run(int argc, const char* const* argv, std::ostream& out, std::ostream& err) {
@@ -123,6 +138,16 @@ int run(int argc, const char* const* argv, std::ostream& out, std::ostream& err)
     bake->add_option("--shader-dir", bake_args.shader_dir,
                      "Read the GLSL shaders from this folder (while editing them)");
     add_pattern_options(bake, bake_args.pattern_path, bake_args.no_cache);
+    add_output_options(bake, bake_args.maps, bake_args.bit_depth, bake_args.meshes, bake_args.split_pieces);
+    bake->add_option("--name", bake_args.name,
+                     "Output name pattern with {preset}, {seed}, {variant}, {map}, e.g. {preset}_{seed}_{map} "
+                     "(overrides bake.name)");
+    bake->add_option("--seeds", bake_args.seeds, "Bake one variant per seed: 1-100, or a list 1,5,9-12")
+        ->type_name("LIST");
+    bake->add_option("--shard", bake_args.shard,
+                     "Bake only slice i of N of the seeds (i/N, 1-based); under Slurm or Kubernetes the slice "
+                     "comes from their variables (docs/farm.md)")
+        ->type_name("i/N");
     add_preset_options(bake, bake_args.preset);
 
     // === export
@@ -140,7 +165,31 @@ int run(int argc, const char* const* argv, std::ostream& out, std::ostream& err)
     exp->add_option("--json", export_args.json_path, "Write the report as JSON");
     exp->add_option("--shader-dir", export_args.shader_dir, "Read the GLSL shaders from this folder");
     add_pattern_options(exp, export_args.pattern_path, export_args.no_cache);
+    exp->add_flag("--pieces", export_args.split_pieces,
+                  "Write each piece as its own node / object named piece_<fragment> (like Cell Fracture)");
     add_preset_options(exp, export_args.preset);
+
+    // === batch
+    BatchArgs batch_args;
+    CLI::App* batch = app.add_subcommand(
+        "batch", "Bake every variant of a manifest (JSON Lines or TOML), or one shard of it; reruns skip finished "
+                 "variants (docs/farm.md)");
+    batch->add_option("MANIFEST", batch_args.manifest, "The manifest: .jsonl or .toml")->required();
+    batch->add_option("--out", batch_args.out_dir, "Output folder (default: out)");
+    batch
+        ->add_option("--shard", batch_args.shard,
+                     "Run slice i of N (i/N, 1-based); N alone takes i from Slurm's or Kubernetes' variables")
+        ->type_name("i/N");
+    batch->add_flag("--merge", batch_args.merge,
+                    "Merge the shards' summaries into batch-summary.json and check every variant is done");
+    batch->add_flag("--list", batch_args.list, "Print the shard's variants (index, name, preset, seed); bake nothing");
+    batch->add_option("--size", batch_args.size, "Map size for every variant: N or WxH")->check(map_size_check);
+    batch->add_option("--set", batch_args.overrides, "Override a preset key for every variant (before its own set)")
+        ->type_name("KEY=VALUE")
+        ->allow_extra_args(false);
+    batch->add_option("--shader-dir", batch_args.shader_dir, "Read the GLSL shaders from this folder");
+    add_output_options(batch, batch_args.maps, batch_args.bit_depth, batch_args.meshes, batch_args.split_pieces);
+    batch->add_flag("--no-cache", batch_args.no_cache, "Simulate every variant even when the cache holds it");
 
     // === bench
     BenchArgs bench_args;
@@ -218,6 +267,8 @@ int run(int argc, const char* const* argv, std::ostream& out, std::ostream& err)
             code = bake_command(bake_args, global, out);
         else if (exp->parsed())
             code = export_command(export_args, global, out);
+        else if (batch->parsed())
+            code = batch_command(batch_args, global, out);
         else if (bench->parsed() && !bench_args.scenes.empty()) {
             bench_args.out_dir = study_out;
             code = bench_command(bench_args, out);

@@ -6,6 +6,7 @@
 #include <optional>
 #include <ostream>
 #include <string>
+#include <vector>
 
 namespace crackle::app {
 
@@ -47,8 +48,15 @@ struct BakeArgs {
     std::string shader_dir; ///< read GLSL from here instead of the embedded copies
     std::string out_dir;    ///< "" = out/
     std::string json_path;
-    std::string pattern_path; ///< --pattern: bake this crack pattern file, no simulation
-    bool no_cache = false;    ///< --no-cache: neither read nor fill the pattern cache
+    std::string pattern_path;        ///< --pattern: bake this crack pattern file, no simulation
+    bool no_cache = false;           ///< --no-cache: neither read nor fill the pattern cache
+    std::string maps;                ///< --maps (bake.maps)
+    std::string bit_depth;           ///< --bit-depth (bake.bit_depth)
+    std::string name;                ///< --name: the output name pattern (bake.name)
+    std::vector<std::string> meshes; ///< --mesh glb,gltf,obj: meshes beside the maps
+    bool split_pieces = false;       ///< --pieces: one mesh node per piece
+    std::string seeds;               ///< --seeds 1-100,200: one bake per seed (a batch)
+    std::string shard;               ///< --shard i/N: this slice of the seeds
 };
 
 /// "2048" → (2048, 0): the longer side; "2048x1024" → (2048, 1024). Empty optional when the text
@@ -67,9 +75,27 @@ struct ExportArgs {
     std::string shader_dir;
     std::string pattern_path;
     bool no_cache = false;
+    bool split_pieces = false; ///< --pieces: one node / object per piece
 };
 
 /// `crackle export`: the piece mesh as OBJ or glTF with its PBR maps.
 int export_command(const ExportArgs& args, const GlobalOptions& global, std::ostream& out);
+
+struct BatchArgs {
+    std::string manifest;               ///< JSON Lines or TOML (docs/farm.md)
+    std::string out_dir;                ///< "" = out/
+    std::vector<std::string> overrides; ///< --set, before each variant's own
+    std::string size, maps, bit_depth;  ///< as in bake
+    std::vector<std::string> meshes;
+    bool split_pieces = false;
+    std::string shard; ///< --shard i/N or N ("" = from Slurm / Kubernetes, else 1/1)
+    bool merge = false;
+    bool list = false; ///< --list: print the shard's variants, bake nothing
+    std::string shader_dir;
+    bool no_cache = false;
+};
+
+/// `crackle batch`: the manifest's variants in this shard, or --merge of the shards' summaries.
+int batch_command(const BatchArgs& args, const GlobalOptions& global, std::ostream& out);
 
 } // namespace crackle::app

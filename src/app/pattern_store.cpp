@@ -1,32 +1,23 @@
 #include "app/pattern_store.hpp"
 
+#include "app/report.hpp"
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
 #include "core/log.hpp"
+#include "core/strings.hpp"
 #include "core/timer.hpp"
 #include "fracture/statistics.hpp"
 #include "io/resolution.hpp"
 
-#include <cinttypes>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
-
-#ifndef CRACKLE_VERSION
-#define CRACKLE_VERSION "unknown"
-#endif
 
 namespace crackle::app {
 
 namespace fs = std::filesystem;
 
 namespace {
-
-std::string hex64(std::uint64_t v) {
-    char buf[17];
-    std::snprintf(buf, sizeof buf, "%016" PRIx64, v);
-    return buf;
-}
 
 /// Bit-exact text of a value: the key must change when any bit of a number does.
 std::string exact_text(const Value& value) {
@@ -175,14 +166,14 @@ const std::string& build_id() {
     static const std::string id = [] {
         std::ifstream exe("/proc/self/exe", std::ios::binary);
         std::string bytes((std::istreambuf_iterator<char>(exe)), std::istreambuf_iterator<char>());
-        return std::string(CRACKLE_VERSION) + "-" + hex64(fracture::fnv1a64(bytes));
+        return std::string(crackle_version()) + "-" + hex64(fracture::fnv1a64(bytes));
     }();
     return id;
 }
 
 std::vector<std::uint8_t> pattern_file_bytes(const io::Preset& preset, const SimulationResult& r) {
     Json h = Json::object();
-    h["crackle_version"] = CRACKLE_VERSION;
+    h["crackle_version"] = crackle_version();
     h["build"] = build_id();
     h["preset"] = preset.name;
     h["seed"] = static_cast<long long>(preset.integer("simulation.seed"));

@@ -37,14 +37,4 @@ SimulationResult run_simulation(const io::Preset& preset, StepTimes& times) {
     return r;
 }
 
-std::string output_name(const io::Preset& preset) {
-    const std::string& configured = preset.text("bake.name");
-    if (!configured.empty()) return configured;
-    std::string name = preset.name;
-    if (name.size() > 5 && name.substr(name.size() - 5) == ".toml") name = std::filesystem::path(name).stem().string();
-    for (char& c : name)
-        if (c == '/' || c == '\\') c = '-';
-    return name;
-}
-
 } // namespace crackle::app

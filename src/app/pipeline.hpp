@@ -29,8 +29,4 @@ struct SimulationResult {
 /// wall times ("preset", "sampling", "triangulation", "assembly", "fracture", ...) to `times`.
 SimulationResult run_simulation(const io::Preset& preset, StepTimes& times);
 
-/// The base name of output files: bake.name, or the preset name with '/' → '-' and no
-/// folder or .toml.
-std::string output_name(const io::Preset& preset);
-
 } // namespace crackle::app

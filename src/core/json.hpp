@@ -48,6 +48,11 @@ public:
     bool is_number() const {
         return std::holds_alternative<double>(m_value) || std::holds_alternative<std::int64_t>(m_value);
     }
+    bool is_integer() const { return std::holds_alternative<std::int64_t>(m_value); }
+    bool is_string() const { return std::holds_alternative<std::string>(m_value); }
+    bool is_array() const { return std::holds_alternative<Array>(m_value); }
+    bool is_bool() const { return std::holds_alternative<bool>(m_value); }
+    bool as_bool() const { return is_bool() && std::get<bool>(m_value); }
     /// The elements of an array (an empty list for anything else).
     const Array& elements() const;
     /// The text of a string ("" for anything else).

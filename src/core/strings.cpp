@@ -39,4 +39,31 @@ std::string did_you_mean(std::string_view word, const std::vector<std::string>& 
     return m.empty() ? std::string() : " (did you mean '" + m + "'?)";
 }
 
+std::vector<std::string> split(std::string_view text, char separator) {
+    std::vector<std::string> parts;
+    if (text.empty()) return parts;
+    std::size_t start = 0;
+    while (true) {
+        const std::size_t end = text.find(separator, start);
+        parts.emplace_back(text.substr(start, end == std::string_view::npos ? text.size() - start : end - start));
+        if (end == std::string_view::npos) return parts;
+        start = end + 1;
+    }
+}
+
+std::string trim(std::string_view text) {
+    const std::size_t a = text.find_first_not_of(" \t");
+    if (a == std::string_view::npos) return "";
+    const std::size_t b = text.find_last_not_of(" \t");
+    return std::string(text.substr(a, b - a + 1));
+}
+
+std::string hex64(std::uint64_t value) {
+    static const char* digits = "0123456789abcdef";
+    std::string s(16, '0');
+    for (int i = 15; i >= 0; --i, value >>= 4)
+        s[static_cast<std::size_t>(i)] = digits[value & 15];
+    return s;
+}
+
 } // namespace crackle

@@ -122,6 +122,16 @@ std::vector<std::uint8_t> encode_png_rgb8(int width, int height, int channels,
     return encode_raw(pixels.data(), width, height, channels, 8);
 }
 
+std::vector<std::uint8_t> encode_png_rgb16(int width, int height, int channels,
+                                           const std::vector<std::uint16_t>& samples) {
+    CRACKLE_ASSERT(channels == 3 || channels == 4, "RGB PNG needs 3 or 4 channels");
+    CRACKLE_ASSERT(samples.size()
+                       == static_cast<std::size_t>(width) * static_cast<std::size_t>(height)
+                              * static_cast<std::size_t>(channels),
+                   "sample buffer size does not match the image size");
+    return encode_raw(samples.data(), width, height, channels, 16);
+}
+
 std::vector<std::uint8_t> decode_png_rgb8(const std::vector<std::uint8_t>& bytes, int& width, int& height) {
     png_image img;
     std::memset(&img, 0, sizeof img);

@@ -20,6 +20,10 @@ std::vector<std::uint8_t> encode_png_gray(const GrayImage& image, int bits);
 /// Encodes interleaved 8-bit RGB or RGBA pixels (row 0 at the top).
 std::vector<std::uint8_t> encode_png_rgb8(int width, int height, int channels, const std::vector<std::uint8_t>& pixels);
 
+/// Encodes interleaved 16-bit RGB or RGBA samples (data maps: no gamma chunk).
+std::vector<std::uint8_t> encode_png_rgb16(int width, int height, int channels,
+                                           const std::vector<std::uint16_t>& samples);
+
 /// Decodes a PNG from memory into interleaved 8-bit RGB (for tests and golden images).
 std::vector<std::uint8_t> decode_png_rgb8(const std::vector<std::uint8_t>& bytes, int& width, int& height);
 

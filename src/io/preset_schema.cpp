@@ -1,6 +1,7 @@
 #include "io/preset_schema.hpp"
 
 #include "fracture/method.hpp"
+#include "io/map_set.hpp"
 
 #include <cmath>
 #include <cstdio>
@@ -219,8 +220,17 @@ std::vector<KeySpec> build_schema() {
     s.push_back(number("bake", "cavity", 0.5, "", 0.0, 1.0,
                        "How much crevices darken the colour map (the occlusion baked into the albedo, as in "
                        "scanned textures)."));
-    s.push_back(
-        text("bake", "name", "", "Base name of the map files (<name>_Color.png, ...); empty = the preset's name."));
+    s.push_back(text("bake", "name", "",
+                     "Output name pattern: fields {preset}, {seed}, {variant} and {map} (the map's suffix; without "
+                     "it, _{map} is appended: <name>_Color.png); '/' makes subfolders of --out. Empty = {preset} "
+                     "(seed lists and batches: {preset}_{seed})."));
+    s.push_back(text("bake", "maps", default_maps(),
+                     "The maps to write, comma-separated: Color, NormalGL, NormalDX, Displacement, AmbientOcclusion, "
+                     "Roughness, Mask, ID, ORM (glTF: occlusion, roughness, metallic) and MaskMap (Unity HDRP/URP: "
+                     "metallic, occlusion, detail mask, smoothness)."));
+    s.push_back(text("bake", "bit_depth", default_bit_depths(),
+                     "Bits per channel of chosen maps, e.g. \"Displacement=16,NormalGL=16\"; the rest are 8-bit. Data "
+                     "maps take 8 or 16; Color, ID and MaskMap are 8-bit."));
     return s;
 }
 

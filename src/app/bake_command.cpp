@@ -1,0 +1,200 @@
+#include "app/bake_run.hpp"
+#include "app/batch.hpp"
+#include "app/commands.hpp"
+#include "app/report.hpp"
+#include "core/atomic_file.hpp"
+#include "core/error.hpp"
+#include "core/log.hpp"
+#include "core/timer.hpp"
+#include "io/mesh_export.hpp"
+#include "io/resolution.hpp"
+
+namespace crackle::app {
+
+namespace {
+
+/// --maps and --bit-depth are shorthands for the preset keys.
+io::PresetRequest bake_request(const BakeArgs& args) {
+    io::PresetRequest request = args.preset;
+    if (!args.maps.empty()) request.overrides.push_back("bake.maps=\"" + args.maps + "\"");
+    if (!args.bit_depth.empty()) request.overrides.push_back("bake.bit_depth=\"" + args.bit_depth + "\"");
+    return request;
+}
+
+/// The bake's preset; --preview swaps in the reduced model (io::element_count's preview rule,
+/// no tip sub-model) after the preset's own values are known.
+io::Preset load_bake_preset(const BakeArgs& args) {
+    io::PresetRequest request = with_bake_overrides(bake_request(args), args.size, args.preview);
+    if (!args.preview) return io::load_preset(request);
+    const io::Preset full = io::load_preset(request);
+    const io::ElementCount reduced = io::element_count(full, true);
+    request.overrides.push_back("simulation.elements=" + std::to_string(reduced.elements));
+    if (full.text("simulation.method") == "fem-split") request.overrides.push_back("simulation.tip_submodel=0");
+    if (reduced.automatic) log::info(reduced.reason);
+    return io::load_preset(request);
+}
+
+BakeOutputs bake_outputs(const BakeArgs& args) {
+    BakeOutputs o;
+    o.dir = args.out_dir.empty() ? std::filesystem::path("out") : std::filesystem::path(args.out_dir);
+    o.name_pattern = args.name;
+    o.meshes = args.meshes;
+    o.split_pieces = args.split_pieces;
+    o.json_path = args.json_path;
+    return o;
+}
+
+/// `bake --seeds` / `--shard`: a batch of one preset over a seed list.
+int bake_seeds(const BakeArgs& args, const GlobalOptions& global, std::ostream& out) {
+    if (args.preview || args.watch || !args.json_path.empty())
+        throw InputError("--seeds", "a seed list writes one report per seed beside its maps",
+                         "leave out --preview, --watch and --json with --seeds");
+    std::vector<Variant> variants;
+    const io::PresetRequest base = bake_request(args);
+    for (const std::uint64_t seed : parse_seed_list(args.seeds.empty() ? "" : args.seeds, "--seeds " + args.seeds)) {
+        Variant v;
+        v.index = variants.size();
+        v.preset = base;
+        v.preset.seed = static_cast<std::int64_t>(seed);
+        v.name = args.name;
+        v.where = "--seeds (seed " + std::to_string(seed) + ")";
+        variants.push_back(std::move(v));
+    }
+    BatchOptions options;
+    options.out_dir = bake_outputs(args).dir;
+    options.size = args.size;
+    options.outputs = bake_outputs(args);
+    options.outputs.json_path.clear();
+    options.shader_dir = args.shader_dir;
+    options.pattern = {args.pattern_path, !args.no_cache};
+    options.shard = resolve_shard(args.shard);
+    return run_batch(variants, options, global, out);
+}
+
+} // namespace
+
+int bake_command(const BakeArgs& args, const GlobalOptions& global, std::ostream& out) {
+    if (!args.seeds.empty() || !args.shard.empty()) {
+        if (args.seeds.empty())
+            throw InputError("--shard " + args.shard, "a shard of nothing",
+                             "give --seeds 1-100 (or use crackle batch)");
+        return bake_seeds(args, global, out);
+    }
+    StepTimes times;
+    const io::Preset preset = load_bake_preset(args);
+    require_available_method(preset);
+    const BakeOutputs outputs = bake_outputs(args);
+    const OutputNames names = bake_names(preset, outputs, "", !args.name.empty());
+    Baked b;
+    const Json report =
+        bake_one(preset, outputs, names, args.shader_dir, {args.pattern_path, !args.no_cache}, times, &b);
+
+    if (!global.quiet) {
+        out << "crackle bake: " << preset.name << " (" << mesh::to_string(b.sim.scene->surface.kind()) << ", "
+            << b.sim.pattern.method << "), seed " << b.sim.scene->seed << ", " << b.maps.width << "×"
+            << b.maps.height_px << " px\n";
+        print_simulation(out, preset, b.sim);
+        out << "  maps         " << report.find("files")->elements().size() << " files in " << outputs.dir.string()
+            << "/ (" << names.base() << " ...); displacement 1.0 = " << fmt("%.4g", b.maps.height_scale * 1000)
+            << " mm\n";
+        print_times(out, times);
+    }
+    return 0;
+}
+
+int batch_command(const BatchArgs& args, const GlobalOptions& global, std::ostream& out) {
+    const std::vector<Variant> variants = read_manifest(args.manifest);
+    BatchOptions options;
+    options.out_dir = args.out_dir.empty() ? std::filesystem::path("out") : std::filesystem::path(args.out_dir);
+    options.overrides = args.overrides;
+    if (!args.maps.empty()) options.overrides.push_back("bake.maps=\"" + args.maps + "\"");
+    if (!args.bit_depth.empty()) options.overrides.push_back("bake.bit_depth=\"" + args.bit_depth + "\"");
+    options.size = args.size;
+    options.outputs.meshes = args.meshes;
+    options.outputs.split_pieces = args.split_pieces;
+    options.shader_dir = args.shader_dir;
+    options.pattern = {"", !args.no_cache};
+    options.manifest = args.manifest;
+    if (args.merge) return merge_batch(variants, options, out);
+    options.shard = resolve_shard(args.shard);
+    if (args.list) return list_batch(variants, options, out);
+    return run_batch(variants, options, global, out);
+}
+
+int export_command(const ExportArgs& args, const GlobalOptions& global, std::ostream& out) {
+    Timer total;
+    StepTimes times;
+    const io::Preset preset = io::load_preset(with_bake_overrides(args.preset, args.size, false));
+    require_available_method(preset);
+    const std::string name = bake_names(preset, BakeOutputs{}).base();
+    const std::filesystem::path file = args.out_path.empty() ? std::filesystem::path("out") / (name + "." + args.format)
+                                                             : std::filesystem::path(args.out_path);
+    const std::filesystem::path dir = file.parent_path();
+    const std::string base = file.stem().string();
+    const Baked b = bake_pipeline(preset, times, args.shader_dir, {args.pattern_path, !args.no_cache});
+
+    Timer step;
+    const io::ExportMesh mesh = io::export_mesh(b.pieces);
+    double encode = 0;
+    const std::vector<io::EncodedMap> encoded = io::encode_texture_set(b.maps, false, &encode);
+    io::MaterialMaps mat;
+    mat.name = base;
+    for (const io::EncodedMap& m : encoded) {
+        if (m.suffix == "Color") mat.color = m;
+        if (m.suffix == "NormalGL") mat.normal = m;
+    }
+    mat.orm = io::encode_orm(b.maps);
+    auto uri = [&](const io::EncodedMap& m) { return io::map_path("", base, m).string(); };
+    mat.color_uri = uri(mat.color);
+    mat.normal_uri = uri(mat.normal);
+    mat.orm_uri = uri(mat.orm);
+    mat.roughness_uri = base + "_Roughness.png";
+    mat.ao_uri = base + "_AmbientOcclusion.png";
+
+    AtomicOutput output;
+    std::vector<std::string> written;
+    auto write = [&](const std::filesystem::path& path, const std::vector<std::uint8_t>& bytes) {
+        output.write(path, bytes);
+        written.push_back(path.string());
+    };
+    if (args.format == "glb") {
+        write(file, io::gltf_bytes(mesh, mat, true));
+    } else {
+        // External maps next to the mesh file.
+        for (const io::EncodedMap& m : encoded)
+            write(io::map_path(dir, base, m), m.bytes);
+        write(io::map_path(dir, base, mat.orm), mat.orm.bytes);
+        if (args.format == "gltf") {
+            write(file, io::gltf_bytes(mesh, mat, false));
+        } else {
+            const auto [obj, mtl] = io::obj_files(mesh, mat, base + ".mtl");
+            output.write(file, obj);
+            output.write(dir / (base + ".mtl"), mtl);
+            written.push_back(file.string());
+            written.push_back((dir / (base + ".mtl")).string());
+        }
+    }
+    times.emplace_back("export", step.seconds());
+    times.emplace_back("total", total.seconds());
+    Json report = simulation_report(preset, b.sim, times);
+    report["command"] = "export";
+    report["format"] = args.format;
+    report["displacement_scale_m"] = b.maps.height_scale;
+    report["vertices"] = mesh.positions.size() / 3;
+    report["triangles"] = mesh.indices.size() / 3;
+    Json files = Json::array();
+    for (const auto& w : written)
+        files.push_back(w);
+    report["files"] = files;
+    if (!args.json_path.empty()) output.write(args.json_path, report.dump());
+    output.commit();
+    if (!global.quiet) {
+        out << "crackle export: " << preset.name << " -> " << file.string() << " (" << mesh.positions.size() / 3
+            << " vertices, " << mesh.indices.size() / 3 << " triangles, " << b.maps.width << "×" << b.maps.height_px
+            << " px maps)\n";
+        print_times(out, times);
+    }
+    return 0;
+}
+
+} // namespace crackle::app
