@@ -258,6 +258,7 @@ Baked bake_pipeline(const io::Preset& preset, StepTimes& times, const std::strin
     Timer step;
     b.pieces = post::build_pieces(b.sim.pattern, post_options(preset));
     times.emplace_back("post", step.seconds());
+    progress_stage("bake");
     step.reset();
     render::GlContext context;
     times.emplace_back("gl_context", step.seconds());
@@ -319,8 +320,10 @@ int simulate_command(const SimulateArgs& args, const GlobalOptions& global, std:
     StepTimes times;
     const io::Preset preset = io::load_preset(args.preset);
     require_available_method(preset);
+    const ProgressPlan plan(progress_stages(preset, false));
     const SimulationResult r = run_simulation(preset, times);
 
+    progress_stage("write");
     AtomicOutput output;
     if (!args.events_path.empty()) output.write(args.events_path, events_csv(r.pattern));
     if (!args.png_path.empty()) {
@@ -350,11 +353,14 @@ int bake_command(const BakeArgs& args, const GlobalOptions& global, std::ostream
     const std::string name = output_name(preset);
     const std::filesystem::path dir =
         args.out_dir.empty() ? std::filesystem::path("out") : std::filesystem::path(args.out_dir);
+    const ProgressPlan plan(progress_stages(preset, true));
     const Baked b = bake_pipeline(preset, times, args.shader_dir);
 
+    progress_stage("encode");
     double encode = 0;
     const std::vector<io::EncodedMap> maps = io::encode_texture_set(b.maps, preset.flag("bake.exr"), &encode);
     times.emplace_back("encode", encode);
+    progress_stage("write");
     AtomicOutput output;
     Json files = Json::array();
     for (const io::EncodedMap& m : maps) {
@@ -395,8 +401,10 @@ int export_command(const ExportArgs& args, const GlobalOptions& global, std::ost
                                                              : std::filesystem::path(args.out_path);
     const std::filesystem::path dir = file.parent_path();
     const std::string base = file.stem().string();
+    const ProgressPlan plan(progress_stages(preset, true));
     const Baked b = bake_pipeline(preset, times, args.shader_dir);
 
+    progress_stage("encode");
     Timer step;
     const io::ExportMesh mesh = io::export_mesh(b.pieces);
     double encode = 0;
@@ -415,6 +423,7 @@ int export_command(const ExportArgs& args, const GlobalOptions& global, std::ost
     mat.roughness_uri = base + "_Roughness.png";
     mat.ao_uri = base + "_AmbientOcclusion.png";
 
+    progress_stage("write");
     AtomicOutput output;
     std::vector<std::string> written;
     auto write = [&](const std::filesystem::path& path, const std::vector<std::uint8_t>& bytes) {
