@@ -131,8 +131,10 @@ int export_command(const ExportArgs& args, const GlobalOptions& global, std::ost
                                                              : std::filesystem::path(args.out_path);
     const std::filesystem::path dir = file.parent_path();
     const std::string base = file.stem().string();
+    const ProgressPlan plan(progress_stages(preset, true));
     const Baked b = bake_pipeline(preset, times, args.shader_dir, {args.pattern_path, !args.no_cache});
 
+    progress_stage("encode");
     Timer step;
     const io::ExportMesh mesh = io::export_mesh(b.pieces);
     double encode = 0;
@@ -151,6 +153,7 @@ int export_command(const ExportArgs& args, const GlobalOptions& global, std::ost
     mat.roughness_uri = base + "_Roughness.png";
     mat.ao_uri = base + "_AmbientOcclusion.png";
 
+    progress_stage("write");
     AtomicOutput output;
     std::vector<std::string> written;
     auto write = [&](const std::filesystem::path& path, const std::vector<std::uint8_t>& bytes) {

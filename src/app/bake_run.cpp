@@ -25,6 +25,7 @@ Baked bake_pipeline(const io::Preset& preset, StepTimes& times, const std::strin
     Timer step;
     b.pieces = post::build_pieces(b.sim.pattern, post_options(preset));
     times.emplace_back("post", step.seconds());
+    progress_stage("bake");
     step.reset();
     render::GlContext context;
     times.emplace_back("gl_context", step.seconds());
@@ -58,11 +59,14 @@ Json bake_one(const io::Preset& preset, const BakeOutputs& outputs, const Output
               const std::string& shader_dir, const PatternOptions& pattern, StepTimes& times, Baked* keep) {
     Timer total;
     const std::vector<io::MapRequest> requests = bake_maps(preset);
+    const ProgressPlan plan(progress_stages(preset, true));
     Baked b = bake_pipeline(preset, times, shader_dir, pattern);
+    progress_stage("encode");
 
     double encode = 0;
     const std::vector<io::EncodedMap> maps = io::encode_maps(b.maps, requests, preset.flag("bake.exr"), &encode);
     times.emplace_back("encode", encode);
+    progress_stage("write");
     AtomicOutput output;
     Json files = Json::array();
     std::set<std::filesystem::path> written;

@@ -72,6 +72,12 @@ int run(int argc, const char* const* argv, std::ostream& out, std::ostream& err)
     bool quiet = false;
     app.add_flag("-v,--verbose", verbosity, "More messages (repeat for debug output)");
     app.add_flag("-q,--quiet", quiet, "Only errors; no progress bars or summaries");
+    std::string progress = "auto";
+    app.add_option("--progress", progress,
+                   "Progress on stderr: auto (a bar on a terminal), bar, json (a line a second, for farms) or "
+                   "none; default $CRACKLE_PROGRESS, else auto")
+        ->envname("CRACKLE_PROGRESS")
+        ->check(CLI::Validator(progress_mode_check, "MODE"));
     // Global flags anywhere: `crackle bake mud -q` as well as `crackle -q bake mud` (options a
     // subcommand does not know fall through to its parent; subcommands inherit the setting).
     app.fallthrough();
@@ -243,6 +249,7 @@ int run(int argc, const char* const* argv, std::ostream& out, std::ostream& err)
                    : verbosity == 1 ? log::Level::Info
                                     : log::Level::Warn);
     set_progress_enabled(!quiet);
+    set_progress_mode(parse_progress_mode(progress).value_or(ProgressMode::Auto));
     const GlobalOptions global{quiet};
 
     int code = 0;

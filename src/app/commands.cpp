@@ -147,9 +147,11 @@ int simulate_command(const SimulateArgs& args, const GlobalOptions& global, std:
     StepTimes times;
     const io::Preset preset = io::load_preset(args.preset);
     require_available_method(preset);
+    const ProgressPlan plan(progress_stages(preset, false));
     const SimulationResult r = run_simulation(preset, times);
     cache_store(preset, r); // a bake of the same simulation keys reuses it
 
+    progress_stage("write");
     AtomicOutput output;
     if (!args.save_path.empty()) output.write(args.save_path, pattern_file_bytes(preset, r));
     if (!args.events_path.empty()) output.write(args.events_path, events_csv(r.pattern));

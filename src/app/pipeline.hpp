@@ -4,6 +4,7 @@
 
 #include "app/scene.hpp"
 #include "core/json.hpp"
+#include "core/progress.hpp"
 #include "fracture/crack_pattern.hpp"
 #include "fracture/run.hpp"
 #include "fracture/statistics.hpp"
@@ -28,5 +29,10 @@ struct SimulationResult {
 /// Builds the scene and runs the preset's fracture method (fracture::make_method); appends
 /// wall times ("preset", "sampling", "triangulation", "assembly", "fracture", ...) to `times`.
 SimulationResult run_simulation(const io::Preset& preset, StepTimes& times);
+
+/// The stages of a run for the progress report (ProgressPlan), weighted by rough wall times
+/// from the element count and the map size: setup, fracture, post, then with `bake` the maps
+/// (bake, encode), and write. Never changes a result.
+std::vector<ProgressStage> progress_stages(const io::Preset& preset, bool bake);
 
 } // namespace crackle::app

@@ -1,5 +1,7 @@
 #include "core/log.hpp"
 
+#include "core/progress.hpp"
+
 #include <atomic>
 #include <iostream>
 #include <mutex>
@@ -24,6 +26,7 @@ void set_stream(std::ostream* os) {
 
 void write(Level lvl, const std::string& message) {
     std::lock_guard lock(g_mutex);
+    progress_clear_line(); // a message never lands in the middle of a progress bar
     std::ostream& os = g_stream ? *g_stream : std::cerr;
     switch (lvl) {
     case Level::Error:

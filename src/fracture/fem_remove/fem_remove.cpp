@@ -58,11 +58,11 @@ CrackPattern run_fem_remove(sim::FemModel& model, const FractureOptions& options
 
     StressCache cache(model);
     relax_all(model, cache, stats); // the state at the start: equilibrium and its rate, globally
-    Progress progress("fracture", options.duration);
+    FractureProgress progress(options.duration, elements_initial);
     double last_step = options.duration * 1e-3;
 
     while (true) {
-        progress.update(model.time());
+        progress.update(model.time(), events.size());
         Timer timer;
         std::size_t picked = 0;
         double best = 0;

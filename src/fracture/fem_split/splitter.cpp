@@ -146,9 +146,9 @@ EventLog& Splitter::run() {
         m_stats.stress_seconds += timer.seconds();
         m_stats.setup_seconds = setup.seconds();
     }
-    Progress progress("fracture", m_options.duration);
+    FractureProgress progress(m_options.duration, m_model.num_alive());
     while (true) {
-        progress.update(m_model.time());
+        progress.update(m_model.time(), m_events.size());
         if (m_events.full(m_model.time())) break;
         // Tips first, first in first out (§5.7.4, Fig. 5.20).
         if (!m_tips.empty()) {

@@ -87,7 +87,7 @@ CrackPattern run_graph_fem(sim::FemModel& model, const FractureOptions& options,
     std::vector<double> level(graph.size(), 1.0);
     double shortfall = 1; // G_c·A / released of the last trial turned down
     const double nu = model.poisson_ratio();
-    Progress progress("graph-fem", options.duration);
+    FractureProgress progress(options.duration, elements_initial);
 
     // One break: edge e, undone by the Griffith test when `gated` and the energy it releases
     // (the strain lost at once plus what the relaxation releases) does not pay for the crack
@@ -199,7 +199,7 @@ CrackPattern run_graph_fem(sim::FemModel& model, const FractureOptions& options,
     };
 
     while (true) {
-        progress.update(model.time());
+        progress.update(model.time(), events.size());
         Timer timer;
         std::size_t picked = 0;
         double best = 0;

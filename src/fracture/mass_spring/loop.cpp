@@ -55,7 +55,7 @@ CrackPattern run_mass_spring(MassSpringModel& model, const FractureOptions& opti
         ++run.solves;
     };
     relax();
-    Progress progress("mass-spring", options.duration);
+    FractureProgress progress(options.duration, model.mesh().num_faces());
     const auto& springs = model.springs();
 
     auto max_ratio = [&]() {
@@ -66,7 +66,7 @@ CrackPattern run_mass_spring(MassSpringModel& model, const FractureOptions& opti
     };
 
     while (true) {
-        progress.update(model.time());
+        progress.update(model.time(), events.size());
         double ratio = 0;
         std::size_t s = 0;
         // The spring most over its break strain, ties drawn from the seed.
