@@ -4,7 +4,6 @@
 #include "core/timer.hpp"
 #include "io/png.hpp"
 
-#include <functional>
 #include <future>
 
 namespace crackle::io {
@@ -23,18 +22,15 @@ std::uint8_t unorm8(double x) {
     return static_cast<std::uint8_t>(std::lround(clamp01(x) * 255.0));
 }
 
-} // namespace
-
-std::vector<EncodedMap> encode_texture_set(const render::TextureSet& s, bool exr, double* seconds) {
-    Timer timer;
+/// The PNG bytes of one map, by its suffix (ambientCG's names, or "ORM").
+std::vector<std::uint8_t> encode_png(const render::TextureSet& s, const std::string& suffix) {
     const int w = s.width, h = s.height_px;
     const std::size_t px = s.pixels();
-    // Each map is encoded on its own thread (zlib is the bottleneck; the maps are independent).
-    std::vector<std::pair<std::string, std::function<std::vector<std::uint8_t>()>>> jobs;
-    jobs.emplace_back("Color", [&] { return encode_png_rgb8(w, h, 3, s.color); });
-    // Normals: (n + 1) / 2; OpenGL convention has +Y (green) pointing up the image (+v),
-    // DirectX's points down: the green channels are complements.
-    auto normals = [&](bool directx) {
+    if (suffix == "Color") return encode_png_rgb8(w, h, 3, s.color);
+    if (suffix == "NormalGL" || suffix == "NormalDX") {
+        // Normals: (n + 1) / 2; OpenGL convention has +Y (green) pointing up the image (+v),
+        // DirectX's points down: the green channels are complements.
+        const bool directx = suffix == "NormalDX";
         std::vector<std::uint8_t> rgb(3 * px);
         for (std::size_t i = 0; i < px; ++i) {
             rgb[3 * i] = unorm8(0.5 * s.normal[3 * i] + 0.5);
@@ -43,10 +39,8 @@ std::vector<EncodedMap> encode_texture_set(const render::TextureSet& s, bool exr
             rgb[3 * i + 2] = unorm8(0.5 * s.normal[3 * i + 2] + 0.5);
         }
         return encode_png_rgb8(w, h, 3, rgb);
-    };
-    jobs.emplace_back("NormalGL", [&] { return normals(false); });
-    jobs.emplace_back("NormalDX", [&] { return normals(true); });
-    jobs.emplace_back("Displacement", [&] {
+    }
+    if (suffix == "Displacement") {
         GrayImage disp;
         disp.width = w;
         disp.height = h;
@@ -54,31 +48,46 @@ std::vector<EncodedMap> encode_texture_set(const render::TextureSet& s, bool exr
         for (std::size_t i = 0; i < px; ++i)
             disp.pixels[i] = static_cast<float>(s.height[i] / s.height_scale);
         return encode_png_gray(disp, 16);
-    });
-    jobs.emplace_back("AmbientOcclusion", [&] { return gray8(s.ao, w, h); });
-    jobs.emplace_back("Roughness", [&] { return gray8(s.roughness, w, h); });
-    jobs.emplace_back("Mask", [&] { return gray8(s.mask, w, h); });
-    jobs.emplace_back("ID", [&] { return encode_png_rgb8(w, h, 3, s.id); });
-    std::vector<std::future<std::vector<std::uint8_t>>> futures;
-    for (auto& job : jobs)
-        futures.push_back(std::async(std::launch::async, job.second));
-    std::vector<EncodedMap> maps;
-    for (std::size_t k = 0; k < jobs.size(); ++k)
-        maps.push_back({jobs[k].first, "png", futures[k].get()});
-    if (exr) maps.push_back({"Displacement", "exr", encode_exr_gray(s.height, w, h)});
-    if (seconds) *seconds = timer.seconds();
-    return maps;
-}
-
-EncodedMap encode_orm(const render::TextureSet& s) {
-    const std::size_t px = s.pixels();
+    }
+    if (suffix == "AmbientOcclusion") return gray8(s.ao, w, h);
+    if (suffix == "Roughness") return gray8(s.roughness, w, h);
+    if (suffix == "Mask") return gray8(s.mask, w, h);
+    if (suffix == "ID") return encode_png_rgb8(w, h, 3, s.id);
+    CRACKLE_ASSERT(suffix == "ORM", "no PNG map is called " << suffix);
+    // glTF's packed map: occlusion (R), roughness (G), metallic (B = 0).
     std::vector<std::uint8_t> orm(3 * px);
     for (std::size_t i = 0; i < px; ++i) {
         orm[3 * i] = unorm8(s.ao[i]);
         orm[3 * i + 1] = unorm8(s.roughness[i]);
         orm[3 * i + 2] = 0;
     }
-    return {"ORM", "png", encode_png_rgb8(s.width, s.height_px, 3, orm)};
+    return encode_png_rgb8(w, h, 3, orm);
+}
+
+} // namespace
+
+std::vector<EncodedMap> encode_texture_set(const render::TextureSet& s, bool exr, double* seconds) {
+    Timer timer;
+    // Each map is encoded on its own thread (zlib is the bottleneck; the maps are independent).
+    const std::vector<std::string> suffixes = {"Color",     "NormalGL", "NormalDX", "Displacement", "AmbientOcclusion",
+                                               "Roughness", "Mask",     "ID"};
+    std::vector<std::future<std::vector<std::uint8_t>>> futures;
+    for (const std::string& suffix : suffixes)
+        futures.push_back(std::async(std::launch::async, [&s, &suffix] { return encode_png(s, suffix); }));
+    std::vector<EncodedMap> maps;
+    for (std::size_t k = 0; k < suffixes.size(); ++k)
+        maps.push_back({suffixes[k], "png", futures[k].get()});
+    if (exr) maps.push_back({"Displacement", "exr", encode_exr_gray(s.height, s.width, s.height_px)});
+    if (seconds) *seconds = timer.seconds();
+    return maps;
+}
+
+EncodedMap encode_map(const render::TextureSet& set, const std::string& suffix) {
+    return {suffix, "png", encode_png(set, suffix)};
+}
+
+EncodedMap encode_orm(const render::TextureSet& set) {
+    return encode_map(set, "ORM");
 }
 
 std::filesystem::path map_path(const std::filesystem::path& dir, const std::string& name, const EncodedMap& map) {
