@@ -90,7 +90,11 @@ ExportMesh flatten(const post::PieceMesh& pieces, const Group& g) {
             t = nrm.cross(std::abs(nrm.y()) < 0.9 ? Vec3::UnitY() : Vec3::UnitX());
         }
         t.normalize();
-        const double w = nrm.cross(t).dot(bitan[i]) < 0 ? -1.0 : 1.0;
+        // glTF rebuilds the bitangent as w·(N × T) and reads the normal map's green along it; in
+        // the OpenGL convention it specifies ("+Y is up"), green points up the image, i.e. along
+        // −∂P/∂v of glTF's flipped v (Blender's exporter keeps MikkTSpace's sign from its unflipped
+        // UVs; three.js negates the sign it computes on glTF's UVs). w = +1 unless mirrored.
+        const double w = nrm.cross(t).dot(bitan[i]) > 0 ? -1.0 : 1.0;
         for (Eigen::Index c = 0; c < 3; ++c)
             m.tangents.push_back(static_cast<float>(t[c]));
         m.tangents.push_back(static_cast<float>(w));

@@ -27,8 +27,9 @@ struct MaterialMaps {
 };
 
 /// The triangle data every exporter writes, in the exchange frame: +Y up, metres, triangles
-/// counter-clockwise seen from outside. Positions, normals, tangents (xyz + handedness w) and
-/// UVs with glTF's origin (v flipped: (u, 1 − v)).
+/// counter-clockwise seen from outside. Positions, normals, tangents (xyz along +u, and w = ±1 so
+/// that w·(N × T) points up the image, where the OpenGL normal map's green points) and UVs with
+/// glTF's origin (v flipped: (u, 1 − v)).
 struct ExportMesh {
     std::string name = "crackle"; ///< glTF node and mesh, OBJ object
     std::optional<int> fragment;  ///< split export: the piece's fragment id (−1: crack floor)

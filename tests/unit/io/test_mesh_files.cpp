@@ -187,7 +187,8 @@ TEST_SUITE("io") {
                     const Vec3 bitangent = vec(N, v).cross(t) * T[4 * v + 3];
                     ++pairs;
                     along_u += t.dot(dP_du) > 0;
-                    handed += bitangent.dot(dP_dv) > 0;
+                    // glTF's v runs down the image, the NormalGL map's green up it.
+                    handed += bitangent.dot(dP_dv) < 0;
                 }
             }
         }
