@@ -6,7 +6,7 @@
 #include "core/error.hpp"
 #include "core/log.hpp"
 #include "core/timer.hpp"
-#include "io/mesh_export.hpp"
+#include "io/mesh_files.hpp"
 #include "io/resolution.hpp"
 
 namespace crackle::app {
@@ -129,72 +129,38 @@ int export_command(const ExportArgs& args, const GlobalOptions& global, std::ost
     const std::string name = bake_names(preset, BakeOutputs{}).base();
     const std::filesystem::path file = args.out_path.empty() ? std::filesystem::path("out") / (name + "." + args.format)
                                                              : std::filesystem::path(args.out_path);
-    const std::filesystem::path dir = file.parent_path();
-    const std::string base = file.stem().string();
     const ProgressPlan plan(progress_stages(preset, true));
     const Baked b = bake_pipeline(preset, times, args.shader_dir, {args.pattern_path, !args.no_cache});
 
     progress_stage("encode");
     Timer step;
-    const io::ExportMesh mesh = io::export_mesh(b.pieces);
-    double encode = 0;
-    const std::vector<io::EncodedMap> encoded = io::encode_texture_set(b.maps, false, &encode);
-    io::MaterialMaps mat;
-    mat.name = base;
-    for (const io::EncodedMap& m : encoded) {
-        if (m.suffix == "Color") mat.color = m;
-        if (m.suffix == "NormalGL") mat.normal = m;
-    }
-    mat.orm = io::encode_orm(b.maps);
-    auto uri = [&](const io::EncodedMap& m) { return io::map_path("", base, m).string(); };
-    mat.color_uri = uri(mat.color);
-    mat.normal_uri = uri(mat.normal);
-    mat.orm_uri = uri(mat.orm);
-    mat.roughness_uri = base + "_Roughness.png";
-    mat.ao_uri = base + "_AmbientOcclusion.png";
-
+    const std::vector<io::OutputFile> files =
+        io::mesh_files(b.pieces, b.maps, {}, file, io::MeshFileOptions{args.format, args.split_pieces});
+    times.emplace_back("export", step.seconds());
     progress_stage("write");
     AtomicOutput output;
-    std::vector<std::string> written;
-    auto write = [&](const std::filesystem::path& path, const std::vector<std::uint8_t>& bytes) {
-        output.write(path, bytes);
-        written.push_back(path.string());
-    };
-    if (args.format == "glb") {
-        write(file, io::gltf_bytes(mesh, mat, true));
-    } else {
-        // External maps next to the mesh file.
-        for (const io::EncodedMap& m : encoded)
-            write(io::map_path(dir, base, m), m.bytes);
-        write(io::map_path(dir, base, mat.orm), mat.orm.bytes);
-        if (args.format == "gltf") {
-            write(file, io::gltf_bytes(mesh, mat, false));
-        } else {
-            const auto [obj, mtl] = io::obj_files(mesh, mat, base + ".mtl");
-            output.write(file, obj);
-            output.write(dir / (base + ".mtl"), mtl);
-            written.push_back(file.string());
-            written.push_back((dir / (base + ".mtl")).string());
-        }
+    Json written = Json::array();
+    for (const io::OutputFile& f : files) {
+        output.write(f.path, f.bytes);
+        written.push_back(f.path.string());
     }
-    times.emplace_back("export", step.seconds());
     times.emplace_back("total", total.seconds());
     Json report = simulation_report(preset, b.sim, times);
     report["command"] = "export";
     report["format"] = args.format;
+    report["split_pieces"] = args.split_pieces;
     report["displacement_scale_m"] = b.maps.height_scale;
-    report["vertices"] = mesh.positions.size() / 3;
-    report["triangles"] = mesh.indices.size() / 3;
-    Json files = Json::array();
-    for (const auto& w : written)
-        files.push_back(w);
-    report["files"] = files;
+    report["vertices"] = b.pieces.vertices.size();
+    report["triangles"] = b.pieces.triangles.size();
+    report["pieces"] = b.pieces.fragments;
+    report["files"] = written;
     if (!args.json_path.empty()) output.write(args.json_path, report.dump());
     output.commit();
     if (!global.quiet) {
-        out << "crackle export: " << preset.name << " -> " << file.string() << " (" << mesh.positions.size() / 3
-            << " vertices, " << mesh.indices.size() / 3 << " triangles, " << b.maps.width << "×" << b.maps.height_px
-            << " px maps)\n";
+        out << "crackle export: " << preset.name << " -> " << files.front().path.string() << " ("
+            << b.pieces.triangles.size() << " triangles, " << b.pieces.fragments << " pieces"
+            << (args.split_pieces ? " as separate nodes" : "") << ", " << b.maps.width << "×" << b.maps.height_px
+            << " px maps, +Y up, metres)\n";
         print_times(out, times);
     }
     return 0;

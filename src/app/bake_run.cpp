@@ -6,6 +6,7 @@
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
 #include "core/timer.hpp"
+#include "io/mesh_files.hpp"
 #include "render/bake.hpp"
 #include "render/gl_context.hpp"
 
@@ -57,7 +58,7 @@ std::vector<io::MapRequest> bake_maps(const io::Preset& preset) {
 
 Json bake_one(const io::Preset& preset, const BakeOutputs& outputs, const OutputNames& names,
               const std::string& shader_dir, const PatternOptions& pattern, StepTimes& times, Baked* keep) {
-    Timer total;
+    Timer total, step;
     const std::vector<io::MapRequest> requests = bake_maps(preset);
     const ProgressPlan plan(progress_stages(preset, true));
     Baked b = bake_pipeline(preset, times, shader_dir, pattern);
@@ -78,6 +79,14 @@ Json bake_one(const io::Preset& preset, const BakeOutputs& outputs, const Output
     };
     for (const io::EncodedMap& m : maps)
         write(names.map_file(outputs.dir, m), m.bytes);
+    for (const std::string& format : outputs.meshes) {
+        step.reset();
+        const std::filesystem::path file = outputs.dir / (names.base() + "." + format);
+        for (io::OutputFile& f :
+             io::mesh_files(b.pieces, b.maps, maps, file, io::MeshFileOptions{format, outputs.split_pieces}))
+            write(f.path, f.bytes);
+        times.emplace_back("mesh." + format, step.seconds());
+    }
     times.emplace_back("total", total.seconds());
 
     Json report = simulation_report(preset, b.sim, times);

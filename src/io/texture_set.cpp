@@ -1,12 +1,6 @@
 #include "io/texture_set.hpp"
 
-#include "core/error.hpp"
-#include "core/timer.hpp"
 #include "io/map_set.hpp"
-#include "io/png.hpp"
-
-#include <functional>
-#include <future>
 
 namespace crackle::io {
 
@@ -14,8 +8,14 @@ std::vector<EncodedMap> encode_texture_set(const render::TextureSet& s, bool exr
     return encode_maps(s, parse_map_requests(default_maps(), default_bit_depths(), "", ""), exr, seconds);
 }
 
-EncodedMap encode_orm(const render::TextureSet& s) {
-    return encode_maps(s, {{"ORM", 8}}, false).front();
+EncodedMap encode_map(const render::TextureSet& set, const std::string& suffix) {
+    // At the default depth of a bake, so the bytes match encode_texture_set's.
+    const std::vector<MapRequest> request = parse_map_requests(suffix, default_bit_depths(), "", "");
+    return encode_maps(set, request, false).front();
+}
+
+EncodedMap encode_orm(const render::TextureSet& set) {
+    return encode_map(set, "ORM");
 }
 
 std::filesystem::path map_path(const std::filesystem::path& dir, const std::string& name, const EncodedMap& map) {

@@ -21,6 +21,10 @@ struct EncodedMap {
 /// Encodes every map (PNG; EXR when asked). Returns them with the encoding time.
 std::vector<EncodedMap> encode_texture_set(const render::TextureSet& set, bool exr, double* seconds = nullptr);
 
+/// One PNG map by its suffix ("Color", "NormalGL", "Roughness", ..., or "ORM"), with the bytes
+/// encode_texture_set gives it.
+EncodedMap encode_map(const render::TextureSet& set, const std::string& suffix);
+
 /// glTF's packed occlusion (R), roughness (G), metallic (B = 0) map.
 EncodedMap encode_orm(const render::TextureSet& set);
 

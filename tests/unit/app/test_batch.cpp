@@ -5,6 +5,7 @@
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
 #include "core/json.hpp"
+#include "io/png.hpp"
 #include "support/cli_runner.hpp"
 #include "support/gl_support.hpp"
 
@@ -316,5 +317,51 @@ TEST_SUITE("app") {
                 CHECK(bytes.substr(bytes.size() - 8, 4) == "IEND");
             }
         }
+    }
+
+    TEST_CASE("batch: bake --maps packs ORM and a Unity mask map at the asked bit depths, and --mesh writes meshes "
+              "beside the maps in the same run, sharing their files") {
+        if (!test::gl_context_or_skip()) return;
+        const fs::path dir = test::scratch_dir("batch-maps");
+        auto r =
+            run_cli({"-q", "bake", "mud", "--size", "32", "--set", "simulation.elements=300", "--maps",
+                     "Color,NormalGL,Roughness,AmbientOcclusion,ORM,MaskMap", "--bit-depth", "NormalGL=16,Roughness=16",
+                     "--mesh", "gltf,obj,glb", "--out", (dir / "o").string(), "--name", "{preset}_{seed}_{map}"});
+        REQUIRE_MESSAGE(r.code == 0, r.err);
+        // PNG header: bit depth at byte 24, colour type at 25 (0 grey, 2 RGB, 6 RGBA).
+        auto header = [&](const char* file) {
+            const std::string b = read_file(dir / "o" / file);
+            return std::make_pair(int(static_cast<unsigned char>(b[24])), int(static_cast<unsigned char>(b[25])));
+        };
+        CHECK(header("mud_1_Color.png") == std::make_pair(8, 2));
+        CHECK(header("mud_1_NormalGL.png") == std::make_pair(16, 2));
+        CHECK(header("mud_1_Roughness.png") == std::make_pair(16, 0));
+        CHECK(header("mud_1_AmbientOcclusion.png") == std::make_pair(8, 0));
+        CHECK(header("mud_1_ORM.png") == std::make_pair(8, 2));
+        CHECK(header("mud_1_MaskMap.png") == std::make_pair(8, 6));
+        CHECK(!fs::exists(dir / "o" / "mud_1_ID.png"));
+        // ORM's red is the occlusion map.
+        int w = 0, h = 0, w2 = 0, h2 = 0;
+        const std::string orm = read_file(dir / "o" / "mud_1_ORM.png"),
+                          ao = read_file(dir / "o" / "mud_1_AmbientOcclusion.png");
+        const auto orm_rgb = io::decode_png_rgb8(std::vector<std::uint8_t>(orm.begin(), orm.end()), w, h);
+        const auto ao_rgb = io::decode_png_rgb8(std::vector<std::uint8_t>(ao.begin(), ao.end()), w2, h2);
+        REQUIRE(orm_rgb.size() == ao_rgb.size());
+        for (std::size_t i = 0; i < orm_rgb.size(); i += 3)
+            CHECK(orm_rgb[i] == ao_rgb[i]);
+        // The meshes are named after the base name, and their maps are the bake's own files.
+        for (const char* f : {"mud_1.gltf", "mud_1.bin", "mud_1.obj", "mud_1.mtl", "mud_1.glb"})
+            CHECK_MESSAGE(fs::exists(dir / "o" / f), f);
+        std::size_t files = 0;
+        for ([[maybe_unused]] const auto& e : fs::directory_iterator(dir / "o"))
+            ++files;
+        CHECK(files == 11); // 6 maps + 5 mesh files: NormalGL, Color, ORM, Roughness shared, not copied
+        // Refused in words before any work.
+        r = run_cli({"bake", "mud", "--maps", "Color,Colour", "--out", (dir / "x").string()});
+        CHECK(r.code == 2);
+        CHECK(r.err.find("did you mean 'Color'") != std::string::npos);
+        r = run_cli({"bake", "mud", "--bit-depth", "ID=16", "--out", (dir / "x").string()});
+        CHECK(r.code == 2);
+        CHECK(!fs::exists(dir / "x"));
     }
 }

@@ -7,7 +7,9 @@
 #include <doctest/doctest.h>
 
 #include <algorithm>
+#include <map>
 #include <regex>
+#include <set>
 
 using namespace crackle;
 using test::run_cli;
@@ -419,18 +421,26 @@ TEST_SUITE("app") {
         CHECK(dimensions({"--size", "64", "--set", "surface.size=[0.2,0.4]"}) == std::make_pair(32, 64));
     }
 
-    TEST_CASE("cli: export writes OBJ and glTF and GLB with their maps") {
+    TEST_CASE("cli: export writes OBJ and glTF and GLB with only the maps they reference") {
         if (!test::gl_context_or_skip()) return;
         const auto dir = test::scratch_dir("cli-export");
-        for (const char* format : {"obj", "gltf", "glb"}) {
+        const std::map<std::string, std::set<std::string>> expected = {
+            {"glb", {"tile.glb"}},
+            {"gltf", {"tile.gltf", "tile.bin", "tile_Color.png", "tile_NormalGL.png", "tile_ORM.png"}},
+            {"obj", {"tile.obj", "tile.mtl", "tile_Color.png", "tile_NormalGL.png", "tile_Roughness.png"}}};
+        for (const auto& [format, names] : expected) {
             CAPTURE(format);
-            const fs::path file = dir / (std::string("tile.") + format);
-            const auto r = run_cli({"-q", "export", "mud", "--format", format, "--size", "32", "--set",
-                                    "simulation.elements=300", "--out", file.string()});
+            const fs::path file = dir / format / ("tile." + format);
+            const auto r =
+                run_cli({"-q", "export", "mud", "--format", format, "--size", "32", "--set", "simulation.elements=300",
+                         "--out", file.string(), "--json", (dir / (format + ".json")).string()});
             REQUIRE_MESSAGE(r.code == 0, r.err);
             CHECK(fs::file_size(file) > 1000);
-            if (std::string(format) != "glb") CHECK(fs::exists(dir / "tile_ORM.png"));
-            if (std::string(format) == "obj") CHECK(fs::exists(dir / "tile.mtl"));
+            std::set<std::string> found;
+            for (const auto& e : fs::directory_iterator(dir / format))
+                found.insert(e.path().filename().string());
+            CHECK(found == names);
+            CHECK(number_field(test::slurp(dir / (format + ".json")), "displacement_scale_m") > 0);
         }
     }
 }

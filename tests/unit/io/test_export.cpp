@@ -1,13 +1,8 @@
-#include "core/atomic_file.hpp"
-#include "fracture/fem_remove/fem_remove.hpp"
 #include "io/mesh_export.hpp"
 #include "io/png.hpp"
-#include "support/cli_runner.hpp"
-#include "support/fem_fixture.hpp"
+#include "support/export_fixtures.hpp"
 
 #include <doctest/doctest.h>
-
-#include <cstdio>
 
 using namespace crackle;
 namespace fs = std::filesystem;
@@ -15,22 +10,10 @@ namespace fs = std::filesystem;
 namespace {
 
 post::PieceMesh small_pieces() {
-    test::LayerSpec spec;
-    spec.size = Vec2(0.2, 0.2);
-    spec.elements = 300;
-    spec.shrinkage = {3e-4, 3e-4};
-    test::Layer layer(spec);
-    Rng rng(4, RngStream::Fracture);
-    const auto pattern = fracture::run_fem_remove(*layer.model, fracture::FractureOptions{}, rng);
-    post::PostOptions o;
-    o.shrink_top = 0.05;
-    return post::build_pieces(pattern, o);
+    return test::plate_pieces(0.05);
 }
 
 io::MaterialMaps tiny_maps(const std::string& base) {
-    GrayImage g;
-    g.width = g.height = 8;
-    g.pixels.assign(64, 0.5f);
     std::vector<std::uint8_t> rgb(3 * 64, 128);
     io::MaterialMaps m;
     m.name = base;
@@ -45,23 +28,6 @@ io::MaterialMaps tiny_maps(const std::string& base) {
 
 void write_bytes(const fs::path& p, const std::vector<std::uint8_t>& b) {
     write_file_atomically(p, std::string_view(reinterpret_cast<const char*>(b.data()), b.size()));
-}
-
-/// Runs the Khronos validator; returns its first output line ("errors=0 warnings=0 ...").
-std::string validate(const fs::path& file, std::string& details) {
-    const fs::path modules = fs::path(CRACKLE_SOURCE_DIR) / ".tools" / "node_modules";
-    const fs::path script = fs::path(CRACKLE_SOURCE_DIR) / "tests" / "tools" / "validate_gltf.js";
-    if (!fs::exists(modules / "gltf-validator")) return "";
-    const std::string cmd = "node '" + script.string() + "' '" + file.string() + "' '" + modules.string() + "' 2>&1";
-    FILE* pipe = popen(cmd.c_str(), "r");
-    if (!pipe) return "";
-    char buf[4096];
-    std::string out;
-    while (fgets(buf, sizeof buf, pipe))
-        out += buf;
-    pclose(pipe);
-    details = out;
-    return out.substr(0, out.find('\n'));
 }
 
 } // namespace
@@ -112,7 +78,7 @@ TEST_SUITE("io") {
         CHECK(obj.find("mtllib piece.mtl") != std::string::npos);
     }
 
-    TEST_CASE("export: the Khronos glTF validator reports no errors and no warnings") {
+    TEST_CASE("export: the Khronos glTF validator reports no errors and no warnings on one mesh") {
         const io::ExportMesh m = io::export_mesh(small_pieces());
         const auto dir = test::scratch_dir("export-validator");
         const io::MaterialMaps maps = tiny_maps("piece");
@@ -120,18 +86,8 @@ TEST_SUITE("io") {
             write_bytes(dir / name, maps.color.bytes);
         write_bytes(dir / "piece.gltf", io::gltf_bytes(m, maps, false));
         write_bytes(dir / "piece.glb", io::gltf_bytes(m, maps, true));
-        for (const char* file : {"piece.gltf", "piece.glb"}) {
-            std::string details;
-            const std::string summary = validate(dir / file, details);
-            if (summary.empty()) {
-                const char* require = std::getenv("CRACKLE_REQUIRE_VALIDATOR");
-                if (require && std::string(require) == "1") FAIL("gltf-validator is not installed (run scripts/setup)");
-                MESSAGE("skipped: gltf-validator not installed in .tools/ (scripts/setup installs it)");
-                return;
-            }
-            CAPTURE(file);
-            CHECK_MESSAGE(summary.rfind("errors=0 warnings=0", 0) == 0, details);
-        }
+        for (const char* file : {"piece.gltf", "piece.glb"})
+            if (!test::check_validator(dir / file)) return;
     }
 
     TEST_CASE("export: 16-bit displacement PNGs and float EXRs read back exactly, non-square too") {
