@@ -112,6 +112,8 @@ int run(int argc, const char* const* argv, std::ostream& out, std::ostream& err)
     simulate->add_option("--events", sim_args.events_path, "Write the fracture events as CSV");
     simulate->add_option("--save", sim_args.save_path,
                          "Write the crack pattern to this file (bake and export read it with --pattern)");
+    simulate->add_flag("--no-cache", sim_args.no_cache,
+                       "Do not store the pattern in the cache (a later bake of the same simulation would reuse it)");
     simulate->add_option("--png", sim_args.png_path, "Write a quick preview of the crack pattern in texture space");
     simulate->add_option("--png-size", sim_args.png_size, "Preview size in pixels")
         ->check(CLI::Range(16, 8192))

@@ -149,7 +149,7 @@ int simulate_command(const SimulateArgs& args, const GlobalOptions& global, std:
     require_available_method(preset);
     const ProgressPlan plan(progress_stages(preset, false));
     const SimulationResult r = run_simulation(preset, times);
-    cache_store(preset, r); // a bake of the same simulation keys reuses it
+    if (!args.no_cache) cache_store(preset, r); // a bake of the same simulation keys reuses it
 
     progress_stage("write");
     AtomicOutput output;

@@ -35,6 +35,7 @@ struct SimulateArgs {
     std::string png_path;    ///< quick preview of the crack pattern in texture space
     int png_size = 512;
     std::string save_path; ///< --save: the crack pattern file (bake/export --pattern read it)
+    bool no_cache = false; ///< --no-cache: do not store the pattern in the cache
 };
 
 /// `crackle simulate`: grow and crack the preset's surface, report the pattern statistics.

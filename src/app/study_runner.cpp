@@ -85,7 +85,8 @@ RunOutcome run_child(const std::filesystem::path& binary, const StudyRun& run, c
     const std::filesystem::path json = work_dir / "run.json", events = work_dir / "run.csv", err = work_dir / "run.err";
     for (const auto& p : {json, events})
         std::filesystem::remove(p);
-    std::vector<std::string> argv = {binary.string(), "-q", "simulate", run.preset};
+    // The study measures simulations: never fill the user's pattern cache with hundreds of them.
+    std::vector<std::string> argv = {binary.string(), "-q", "simulate", run.preset, "--no-cache"};
     for (const std::string& o : run.overrides) {
         argv.push_back("--set");
         argv.push_back(o);
