@@ -84,15 +84,16 @@ fs::path report_path(const BatchOptions& options, const Prepared& p) {
     return options.out_dir / (p.names.base() + ".json");
 }
 
-/// A variant is done when its report is on disk with its key, and every file it lists is there.
-bool finished(const BatchOptions& options, const Prepared& p) {
+/// A variant is done when its report is on disk with its key (unless `any_key`: the merge, which
+/// may run without the shards' options), and every file it lists is there.
+bool finished(const BatchOptions& options, const Prepared& p, bool any_key = false) {
     const fs::path report = report_path(options, p);
     std::error_code ec;
     if (!fs::is_regular_file(report, ec)) return false;
     try {
         const Json j = Json::parse(read_file(report), report.string());
         const Json* key = j.find("variant_key");
-        if (!key || key->as_string() != p.key) return false;
+        if (!key || (!any_key && key->as_string() != p.key)) return false;
         if (const Json* files = j.find("files"))
             for (const Json& f : files->elements())
                 if (!fs::is_regular_file(f.as_string(), ec)) return false;
@@ -352,7 +353,7 @@ int merge_batch(const std::vector<Variant>& variants, const BatchOptions& option
     std::size_t done = 0;
     std::vector<std::string> problems;
     for (const Prepared& p : all) {
-        const bool ok = finished(options, p);
+        const bool ok = finished(options, p, true);
         const auto& by = claims[p.variant->index];
         Json e = variant_entry(p, ok ? "done" : "missing", options);
         Json shards = Json::array();

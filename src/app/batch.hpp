@@ -72,7 +72,9 @@ int run_batch(const std::vector<Variant>& variants, const BatchOptions& options,
 int list_batch(const std::vector<Variant>& variants, const BatchOptions& options, std::ostream& out);
 
 /// Merges the shard summaries in options.out_dir into batch-summary.json and checks every
-/// variant against its report on disk: 0 when all are done, 1 (with the list) otherwise.
+/// variant against its report on disk (the report and every file it lists; not the variant key,
+/// so the merge needs none of the shards' --set or --size): 0 when all are done and each by one
+/// shard, 1 (with the list) otherwise.
 int merge_batch(const std::vector<Variant>& variants, const BatchOptions& options, std::ostream& out);
 
 } // namespace crackle::app

@@ -300,7 +300,7 @@ TEST_SUITE("app") {
         REQUIRE_MESSAGE(r.code == 0, r.err);
         CHECK(r.out.find("mud_2: already done") != std::string::npos);
         CHECK(r.out.find("mud_4: done") != std::string::npos);
-        r = run_cli({"batch", manifest.string(), "--out", out, "--merge"});
+        r = run_cli({"batch", manifest.string(), "--out", out, "--merge", "--size", "48"}); // options do not matter
         CHECK_MESSAGE(r.code == 0, r.out);
         const Json merged = Json::parse(read_file(dir / "out" / "batch-summary.json"), "merged");
         CHECK(merged.find("done")->as_number() == 4);
