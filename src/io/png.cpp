@@ -112,24 +112,27 @@ std::vector<std::uint8_t> encode_png_gray(const GrayImage& image, int bits) {
     return encode_raw(px.data(), image.width, image.height, 1, 16);
 }
 
-std::vector<std::uint8_t> encode_png_rgb8(int width, int height, int channels,
-                                          const std::vector<std::uint8_t>& pixels) {
-    CRACKLE_ASSERT(channels == 3 || channels == 4, "RGB PNG needs 3 or 4 channels");
-    CRACKLE_ASSERT(pixels.size()
-                       == static_cast<std::size_t>(width) * static_cast<std::size_t>(height)
-                              * static_cast<std::size_t>(channels),
-                   "pixel buffer size does not match the image size");
-    return encode_raw(pixels.data(), width, height, channels, 8);
-}
-
-std::vector<std::uint8_t> encode_png_rgb16(int width, int height, int channels,
-                                           const std::vector<std::uint16_t>& samples) {
+namespace {
+/// RGB(A) samples of any depth, checked against the image size.
+template <class Sample>
+std::vector<std::uint8_t> encode_rgb(int width, int height, int channels, const std::vector<Sample>& samples) {
     CRACKLE_ASSERT(channels == 3 || channels == 4, "RGB PNG needs 3 or 4 channels");
     CRACKLE_ASSERT(samples.size()
                        == static_cast<std::size_t>(width) * static_cast<std::size_t>(height)
                               * static_cast<std::size_t>(channels),
                    "sample buffer size does not match the image size");
-    return encode_raw(samples.data(), width, height, channels, 16);
+    return encode_raw(samples.data(), width, height, channels, 8 * static_cast<int>(sizeof(Sample)));
+}
+} // namespace
+
+std::vector<std::uint8_t> encode_png_rgb8(int width, int height, int channels,
+                                          const std::vector<std::uint8_t>& pixels) {
+    return encode_rgb(width, height, channels, pixels);
+}
+
+std::vector<std::uint8_t> encode_png_rgb16(int width, int height, int channels,
+                                           const std::vector<std::uint16_t>& samples) {
+    return encode_rgb(width, height, channels, samples);
 }
 
 std::vector<std::uint8_t> decode_png_rgb8(const std::vector<std::uint8_t>& bytes, int& width, int& height) {

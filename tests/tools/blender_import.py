@@ -1,6 +1,6 @@
 """Imports crackle exports into Blender and prints what arrived (a manual check, not in CTest).
 
-    CRACKLE_BLENDER_FILES=/tmp/blend build/tests/crackle_tests -tc="*Blender check*"  # mud, bark
+    build/crackle bake mud --size 256 --mesh glb,gltf,obj --out /tmp/blend   # likewise bark, --pieces
     blender -b --factory-startup --python tests/tools/blender_import.py -- \
         [--render /tmp/blend/renders] /tmp/blend/mud.glb /tmp/blend/bark_split.obj ...
 
