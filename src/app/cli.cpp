@@ -1,6 +1,7 @@
 #include "app/cli.hpp"
 
 #include "app/bench.hpp"
+#include "app/bench_speedup.hpp"
 #include "app/commands.hpp"
 #include "app/study.hpp"
 #include "app/watch.hpp"
@@ -205,8 +206,13 @@ int run(int argc, const char* const* argv, std::ostream& out, std::ostream& err)
     std::string study_out;
     CLI::App* bench =
         app.add_subcommand("bench", "The speed-vs-accuracy study (CSV and charts), or a named speed micro-benchmark");
-    bench->add_option("MICRO", bench_args.scenes,
-                      "Speed micro-benchmarks instead of the study: solve, fem-remove, fem-split, mass-spring, bake");
+    bench->add_option(
+        "MICRO", bench_args.scenes,
+        "Speed micro-benchmarks instead of the study: solve, local, fem-remove, fem-split, mass-spring, bake; "
+        "or speedup (this build against --baseline)");
+    std::string baseline;
+    bench->add_option("--baseline", baseline,
+                      "bench speedup: the crackle executable to compare with (scripts/bench-baseline REV builds one)");
     bench->add_flag("--quick", bench_args.quick, "A small subset (the study in about a minute; what CI runs)");
     bench->add_option("--out", study_out, "Output folder (study: runs.csv, points.csv, charts; default: bench)");
     bench
@@ -278,7 +284,14 @@ int run(int argc, const char* const* argv, std::ostream& out, std::ostream& err)
             code = export_command(export_args, global, out);
         else if (batch->parsed())
             code = batch_command(batch_args, global, out);
-        else if (bench->parsed() && !bench_args.scenes.empty()) {
+        else if (bench->parsed() && bench_args.scenes == std::vector<std::string>{"speedup"}) {
+            SpeedupArgs speedup;
+            speedup.baseline = baseline;
+            speedup.quick = bench_args.quick;
+            if (study_args.seeds > 0) speedup.seeds = study_args.seeds;
+            speedup.out_dir = study_out;
+            code = speedup_command(speedup, out);
+        } else if (bench->parsed() && !bench_args.scenes.empty()) {
             bench_args.out_dir = study_out;
             code = bench_command(bench_args, out);
         } else if (bench->parsed()) {

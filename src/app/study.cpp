@@ -49,32 +49,6 @@ std::string num(double v) {
     return buf;
 }
 
-StatMap read_stats(const RunOutcome& o) {
-    StatMap s;
-    auto take = [&](const char* from, const char* to) {
-        if (const Json* v = o.report.find(from); v && v->is_number()) s[to] = v->as_number();
-    };
-    for (const char* k : {"elements_initial", "fragments", "crack_length_per_area", "mean_fragment_area",
-                          "fragment_area_cv", "t_junction_fraction", "y_junction_fraction", "anisotropy", "tortuosity",
-                          "first_event_time", "tension_error"})
-        take(k, k);
-    take("fracture_events", "events");
-    s["peak_memory_mb"] = o.peak_memory_mb;
-    s["wall_seconds"] = o.wall;
-    if (const Json* w = o.report.find("wall_seconds")) {
-        auto wall = [&](const char* key, const char* to) {
-            if (const Json* v = w->find(key)) s[to] = v->as_number();
-        };
-        wall("total", "wall_seconds");
-        wall("fracture", "fracture_seconds");
-        wall("fracture.solve", "solve_seconds");
-        wall("fracture.stress", "stress_seconds");
-        wall("fracture.topology", "topology_seconds");
-    }
-    if (!o.events_csv.empty()) s["arrest_height"] = arrest_height(o.events_csv);
-    return s;
-}
-
 bool is_film(const std::string& scene) {
     return scene.rfind("film", 0) == 0;
 }

@@ -2,6 +2,7 @@
 /// @file Running one study run: a child `crackle simulate` process with a time limit (its own
 /// wall time and peak memory; a crash or hang ends only that run), or the in-process 1D bar.
 
+#include "app/study_metrics.hpp"
 #include "app/study_plan.hpp"
 #include "core/json.hpp"
 
@@ -24,6 +25,10 @@ struct RunOutcome {
 /// seconds; `tick(elapsed)` is called about 20 times a second while it runs.
 RunOutcome run_child(const std::filesystem::path& binary, const StudyRun& run, const std::filesystem::path& work_dir,
                      double time_limit, const std::function<void(double)>& tick);
+
+/// The statistics and timings of a finished run, read from its report (and arrest_height from
+/// its events): the columns of the study's runs.csv.
+StatMap read_stats(const RunOutcome& outcome);
 
 /// The 1D bar of App. A with `run.elements` sub-segments: the report holds first_event_time,
 /// closed_form_time and tension_error (max |T − T_exact| / max T_exact at 0.9 t*).

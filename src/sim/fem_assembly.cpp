@@ -83,11 +83,13 @@ void FemModel::refresh_incidence(const std::vector<FaceId>& faces, const std::ve
         return false;
     };
     for (std::size_t v : vertices) {
+        record_incidence(v);
         auto& list = m_incident[v];
         list.erase(std::remove_if(list.begin(), list.end(), [&](std::uint32_t f) { return !has(f, v); }), list.end());
     }
     for (FaceId f : faces)
         for (VertexId w : m_mesh.faces[f].v) {
+            record_incidence(ix(w));
             auto& list = m_incident[ix(w)];
             if (std::find(list.begin(), list.end(), static_cast<std::uint32_t>(ix(f))) == list.end())
                 list.push_back(static_cast<std::uint32_t>(ix(f)));
@@ -143,8 +145,10 @@ void FemModel::reassemble_around(const std::vector<std::size_t>& vertices) {
     // The matrix stays uncompressed with slack in every row, so most changes fit where they
     // are; a short row moves the rows after it (O(nnz)), so it gets generous slack.
     {
-        constexpr int slack = 18;          // six new neighbour vertices
-        std::vector<Eigen::Index> missing; // rows, one entry per missing 3-column block
+        constexpr int slack = 18; // six new neighbour vertices
+        // (row, first column) of each missing 3-column block, each once: a block (a, b) and
+        // its mirror (b, a) both ask for the same two.
+        std::vector<std::pair<Eigen::Index, Eigen::Index>> absent;
         auto has = [&](Eigen::Index row, Eigen::Index col) {
             for (SpMatR::InnerIterator it(m_K, row); it; ++it)
                 if (it.col() == col) return true;
@@ -153,10 +157,15 @@ void FemModel::reassemble_around(const std::vector<std::size_t>& vertices) {
         for (const Block& bl : blocks)
             for (int i = 0; i < 3; ++i) {
                 const auto ra = static_cast<Eigen::Index>(3 * bl.a) + i, rb = static_cast<Eigen::Index>(3 * bl.b) + i;
-                if (!has(ra, static_cast<Eigen::Index>(3 * bl.b))) missing.push_back(ra);
-                if (!has(rb, static_cast<Eigen::Index>(3 * bl.a))) missing.push_back(rb);
+                const auto ca = static_cast<Eigen::Index>(3 * bl.a), cb = static_cast<Eigen::Index>(3 * bl.b);
+                if (!has(ra, cb)) absent.emplace_back(ra, cb);
+                if (!has(rb, ca)) absent.emplace_back(rb, ca);
             }
-        std::sort(missing.begin(), missing.end());
+        std::sort(absent.begin(), absent.end());
+        absent.erase(std::unique(absent.begin(), absent.end()), absent.end());
+        std::vector<Eigen::Index> missing; // rows, one entry per missing 3-column block
+        for (const auto& rc : absent)
+            missing.push_back(rc.first);
         bool short_of_room = false;
         for (std::size_t i = 0; i < missing.size() && !short_of_room;) {
             std::size_t j = i;
@@ -168,14 +177,23 @@ void FemModel::reassemble_around(const std::vector<std::size_t>& vertices) {
             i = j;
         }
         if (short_of_room) {
+            // Eigen's reserve walks and moves every row whatever it is asked for, so one pass
+            // gives every row room for twelve new neighbours: a tip sub-model's trial (§5.7.8)
+            // adds up to about ten to the rows around a tip (and takes them away again), and
+            // a pass per trial was 15 % of mud's run.
             Eigen::VectorXi need = Eigen::VectorXi::Zero(m_K.outerSize());
             for (Eigen::Index r : missing)
                 need[r] += 3;
-            for (Eigen::Index r = 0; r < need.size(); ++r)
-                if (need[r] > 0) need[r] += slack;
+            for (Eigen::Index r = 0; r < need.size(); ++r) // the room each row gets (at least);
+                need[r] = need[r] > 0 ? std::max(need[r] + 2 * slack, m_K.innerNonZeroPtr()[r]) // a short row doubles
+                                      : 2 * slack;
             // Grow the storage geometrically, and only when it is full.
-            if (m_K.data().size() + need.sum() > m_K.data().allocatedSize())
-                m_K.data().reserve(std::max<Eigen::Index>(need.sum(), m_K.data().size() / 2));
+            Eigen::Index extra = 0;
+            for (Eigen::Index r = 0; r < need.size(); ++r)
+                extra += std::max<Eigen::Index>(
+                    0, need[r] - (m_K.outerIndexPtr()[r + 1] - m_K.outerIndexPtr()[r] - m_K.innerNonZeroPtr()[r]));
+            if (m_K.data().size() + extra > m_K.data().allocatedSize())
+                m_K.data().reserve(std::max<Eigen::Index>(extra, m_K.data().size() / 2));
             m_K.reserve(need);
         }
     }
@@ -211,7 +229,26 @@ void FemModel::reassemble_around(const std::vector<std::size_t>& vertices) {
     m_solver->invalidate(true);
 }
 
+void FemModel::defer_updates() {
+    CRACKLE_ASSERT(!m_defer_updates, "deferred updates do not nest");
+    m_defer_updates = true;
+}
+
+void FemModel::flush_updates() {
+    CRACKLE_ASSERT(m_defer_updates, "flush_updates() without defer_updates()");
+    m_defer_updates = false;
+    std::vector<std::size_t> vertices;
+    vertices.swap(m_deferred_vertices);
+    std::sort(vertices.begin(), vertices.end());
+    vertices.erase(std::unique(vertices.begin(), vertices.end()), vertices.end());
+    if (!vertices.empty()) update_around(vertices);
+}
+
 void FemModel::update_around(const std::vector<std::size_t>& vertices) {
+    if (m_defer_updates) {
+        m_deferred_vertices.insert(m_deferred_vertices.end(), vertices.begin(), vertices.end());
+        return;
+    }
     reassemble_around(vertices);
     recompute_residual_at(Unknown::Position, vertices);
     recompute_residual_at(Unknown::Rate, vertices);
@@ -219,7 +256,8 @@ void FemModel::update_around(const std::vector<std::size_t>& vertices) {
 }
 
 void FemModel::grow_rows(Eigen::Index n) {
-    constexpr int slack = 18, room = 36; // per old row, per new row (12 neighbour vertices)
+    constexpr int slack = 18, room = 60; // per old row, per new row (20 neighbour vertices: bisection
+                                         // around a tip, §5.7.8, gives a new vertex up to ~16)
     if (m_K.isCompressed()) m_K.reserve(Eigen::VectorXi::Constant(m_K.outerSize(), slack));
     const Eigen::Index old = m_K.rows();
     if (old >= n) return;

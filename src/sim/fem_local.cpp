@@ -110,7 +110,10 @@ SolveStats FemModel::relax_field_local(Unknown u, const std::vector<std::size_t>
                 const auto row = static_cast<Eigen::Index>(3 * v) + d;
                 for (SpMatR::InnerIterator it(m_K, row); it; ++it) {
                     const int lj = local_index[static_cast<std::size_t>(it.col() / 3)];
-                    if (lj >= 0)
+                    // K keeps explicit zeros where edits left them (its pattern only grows);
+                    // leaving them out makes the ordering, and so the answer's last bits,
+                    // independent of the edit history.
+                    if (lj >= 0 && it.value() != 0.0)
                         triplets.emplace_back(static_cast<Eigen::Index>(3 * i) + d,
                                               static_cast<Eigen::Index>(3 * lj) + it.col() % 3, it.value());
                 }

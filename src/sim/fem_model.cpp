@@ -95,8 +95,13 @@ void FemModel::init_element(std::size_t f) {
         return;
     }
     mat.young_modulus = m_fields.young_modulus->face_average(m_mesh, id, m_surface);
-    mat.threshold_stress = m_fields.threshold_stress->face_average(m_mesh, id, m_surface);
-    mat.toughness = m_fields.toughness->face_average(m_mesh, id, m_surface);
+    if (m_trial.active && m_trial.stiffness_only) { // nothing reads them before the rollback
+        mat.threshold_stress = m_fields.threshold_stress->min_value();
+        mat.toughness = m_fields.toughness->min_value();
+    } else {
+        mat.threshold_stress = m_fields.threshold_stress->face_average(m_mesh, id, m_surface);
+        mat.toughness = m_fields.toughness->face_average(m_mesh, id, m_surface);
+    }
     build_element_stiffness(f);
 }
 

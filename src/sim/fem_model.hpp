@@ -164,6 +164,14 @@ public:
     /// averages (§5.9) and stiffness; new top nodes start at the midpoints. Returns every face
     /// created or changed.
     std::vector<mesh::FaceId> subdivide(mesh::FaceId f);
+    /// Between these two, topology edits update the mesh, materials and element stiffness at
+    /// once but K's rows and the residuals only at the end, for every vertex touched: a run of
+    /// bisections (a tip sub-model, §5.7.8) rebuilds each row once instead of once per edit.
+    /// K and the residuals are the same as without: each row is rebuilt from scratch from its
+    /// final elements, and a block off the diagonal sums at most the two faces on its edge.
+    /// Nothing may read K or a residual in between.
+    void defer_updates();
+    void flush_updates();
     /// Splits edge `edge` of `f` (and the face across it) at parameter t ∈ (0, 1) from the
     /// edge's first corner: a new vertex on the background surface, its top node interpolated
     /// between the edge's top nodes. Returns the new vertex and every face created or changed.
@@ -187,7 +195,10 @@ public:
     /// Starts a trial: every change from here on (topology, stiffness, positions) can be undone
     /// by rollback() — fem-split's Griffith test of a tip extension (Alg. 11) — at the cost of
     /// copying the per-vertex state and recording the elements and matrix rows that change.
-    void begin_trial();
+    /// A stiffness-only trial (the tip sub-model's, §5.7.8, which reads only displacements and
+    /// stresses) gives the elements it creates no strength: their threshold stress and
+    /// toughness are the fields' lower bounds instead of face averages of the variation.
+    void begin_trial(bool stiffness_only = false);
     /// Undoes everything since begin_trial().
     void rollback();
     /// Keeps the changes since begin_trial().
@@ -323,6 +334,7 @@ private:
     struct TrialSlot {
         std::unique_ptr<Trial> trial;
         bool active = false;
+        bool stiffness_only = false;
         TrialSlot();
         TrialSlot(const TrialSlot&);
         TrialSlot& operator=(const TrialSlot&);
@@ -331,8 +343,11 @@ private:
         ~TrialSlot();
     };
     TrialSlot m_trial;
+    bool m_defer_updates = false;
+    std::vector<std::size_t> m_deferred_vertices;
     void record_element(std::size_t f);
     void record_row(Eigen::Index row);
+    void record_incidence(std::size_t v);
     /// A vertex a topology change is making: its top node and rate, normal and thickness.
     struct NewNode {
         Vec3 top = Vec3::Zero(), rate = Vec3::Zero(), normal = Vec3::Zero();

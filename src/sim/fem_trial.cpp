@@ -13,7 +13,9 @@ struct FemModel::Trial {
     std::vector<double> thickness, last_update;
     Field x, xdot;
     std::vector<std::size_t> updated;
-    std::vector<std::vector<std::uint32_t>> incident;
+    // Incidence lists are many small vectors: the trial saves only those it changes.
+    std::vector<char> incident_recorded;
+    std::vector<std::pair<std::size_t, std::vector<std::uint32_t>>> incident;
     std::vector<int> alive_degree;
     std::vector<char> alive;
     std::vector<std::uint8_t> broken;
@@ -39,7 +41,7 @@ FemModel::TrialSlot& FemModel::TrialSlot::operator=(TrialSlot&&) noexcept {
 }
 FemModel::TrialSlot::~TrialSlot() = default;
 
-void FemModel::begin_trial() {
+void FemModel::begin_trial(bool stiffness_only) {
     CRACKLE_ASSERT(!m_trial.active, "trials do not nest");
     if (!m_trial.trial) m_trial.trial = std::make_unique<Trial>();
     Trial& t = *m_trial.trial;
@@ -53,7 +55,8 @@ void FemModel::begin_trial() {
     t.x = m_x;
     t.xdot = m_xdot;
     t.updated = m_updated;
-    t.incident = m_incident;
+    t.incident_recorded.assign(t.vertices, 0);
+    t.incident.clear();
     t.alive_degree = m_alive_degree;
     t.alive = m_alive;
     t.broken = m_broken;
@@ -64,6 +67,7 @@ void FemModel::begin_trial() {
     t.row_recorded.assign(static_cast<std::size_t>(m_K.rows()), 0);
     t.rows.clear();
     m_trial.active = true;
+    m_trial.stiffness_only = stiffness_only;
 }
 
 void FemModel::record_element(std::size_t f) {
@@ -72,6 +76,14 @@ void FemModel::record_element(std::size_t f) {
     if (f >= t.faces || t.element_recorded[f]) return;
     t.element_recorded[f] = 1;
     t.elements.push_back({f, {m_material[f], m_k_top[f]}});
+}
+
+void FemModel::record_incidence(std::size_t v) {
+    if (!m_trial.active) return;
+    Trial& t = *m_trial.trial;
+    if (v >= t.vertices || t.incident_recorded[v]) return;
+    t.incident_recorded[v] = 1;
+    t.incident.emplace_back(v, m_incident[v]);
 }
 
 void FemModel::record_row(Eigen::Index row) {
@@ -96,7 +108,9 @@ void FemModel::rollback() {
     m_x = t.x;
     m_xdot = t.xdot;
     m_updated = t.updated;
-    m_incident = t.incident;
+    m_incident.resize(t.vertices);
+    for (auto& [v, list] : t.incident)
+        m_incident[v].swap(list);
     m_alive_degree = t.alive_degree;
     m_alive = t.alive;
     m_broken = t.broken;
@@ -119,11 +133,12 @@ void FemModel::rollback() {
     const auto n = static_cast<Eigen::Index>(3 * t.vertices);
     if (m_K.rows() > n) m_K.conservativeResize(n, n);
     m_solver->invalidate(true);
-    m_trial.active = false;
+    m_trial.active = m_trial.stiffness_only = false;
 }
 
 void FemModel::commit() {
     CRACKLE_ASSERT(m_trial.active, "commit() without begin_trial()");
+    CRACKLE_ASSERT(!m_trial.stiffness_only, "a stiffness-only trial has no strengths to keep");
     m_trial.active = false;
 }
 

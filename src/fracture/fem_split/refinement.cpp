@@ -10,6 +10,7 @@ namespace crackle::fracture::split_detail {
 
 std::vector<FaceId> Splitter::subdivide_around(std::size_t v, double size, std::size_t* calls) {
     std::vector<FaceId> touched;
+    m_model.defer_updates(); // K's rows once, at the end
     for (int round = 0; round < 64; ++round) {
         // The vicinity: v's faces and every face sharing a vertex with them.
         std::vector<std::uint32_t> ring;
@@ -32,6 +33,7 @@ std::vector<FaceId> Splitter::subdivide_around(std::size_t v, double size, std::
         touched.insert(touched.end(), faces.begin(), faces.end());
         if (calls) ++*calls;
     }
+    m_model.flush_updates();
     std::sort(touched.begin(), touched.end());
     touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
     return touched;
@@ -58,7 +60,7 @@ bool Splitter::submodel_direction(std::size_t tip, Vec3& crack) {
         size = std::min(size, m_model.element_size(face_id(f)));
     size /= std::pow(2.0, m_split.tip_submodel_levels);
     // A trial: the finer elements, and the solution on them, are gone afterwards (§5.7.8).
-    m_model.begin_trial();
+    m_model.begin_trial(/*stiffness_only=*/true);
     const std::vector<FaceId> touched = subdivide_around(tip, size);
     bool found = false;
     if (!touched.empty()) {

@@ -182,6 +182,14 @@ TEST_SUITE("app") {
         CHECK(!fs::exists(out / "b"));
         r = test::run_cli({"bench", "--seeds", "0", "--no-charts"});
         CHECK(r.code == 2);
+        // bench speedup needs a baseline it can run, and says how to build one.
+        r = test::run_cli(
+            {"bench", "speedup", "--baseline", (out / "no-such-crackle").string(), "--out", (out / "c").string()});
+        CHECK(r.code == 2);
+        CHECK(r.err.find("scripts/bench-baseline") != std::string::npos);
+        CHECK(!fs::exists(out / "c"));
+        r = test::run_cli({"bench", "speedup"});
+        CHECK(r.code == 2);
     }
 
     TEST_CASE("study: the quick study writes a row per planned run, seed-averaged points, and three charts") {

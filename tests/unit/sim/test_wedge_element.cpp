@@ -97,6 +97,29 @@ TEST_SUITE("sim") {
                            "largest |zero eigenvalues − 6| over 5 prisms", off, "= 0");
     }
 
+    TEST_CASE(
+        "wedge: K_e built from B's non-zeros equals the dense quadrature sum of Bᵀ D B (isotropic and anisotropic D)") {
+        Rng rng(11, RngStream::Test);
+        for (int trial = 0; trial < 20; ++trial) {
+            const wedge::Nodes n = random_prism(rng, 0.05 + 0.5 * rng.uniform());
+            wedge::Mat6 D = wedge::elasticity(1e7 * (1 + rng.uniform()), 0.45 * rng.uniform());
+            if (trial % 2) { // a general symmetric positive definite D, as edge damage makes
+                const wedge::Mat6 A = wedge::Mat6::Random();
+                D += 1e6 * A * A.transpose();
+            }
+            wedge::Mat18 dense = wedge::Mat18::Zero();
+            for (const auto& g : wedge::quadrature()) {
+                double det = 0;
+                const wedge::Mat6x18 B = wedge::strain_matrix(n, g.xi, g.eta, g.zeta, &det);
+                dense += (g.weight * det) * (B.transpose() * D * B);
+            }
+            dense = 0.5 * (dense + dense.transpose());
+            const wedge::Mat18 K = wedge::stiffness(n, D);
+            CHECK((K - dense).norm() <= 1e-13 * dense.norm());
+            CHECK(K == K.transpose());
+        }
+    }
+
     TEST_CASE("wedge: rigid translations and rotations give zero force") {
         Rng rng(7, RngStream::Test);
         const wedge::Nodes n = random_prism(rng);
