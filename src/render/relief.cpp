@@ -32,8 +32,9 @@ void box_line(double* line, int n, int r, bool wrap, std::vector<double>& tmp) {
     }
 }
 
-/// Box sums of radius r down every column at once, row by row (row-major: cache friendly):
-/// a running sum per column, wrapping in v on periodic surfaces, clamped at the ends otherwise.
+/// Box sums of radius r down every column, a running sum per column over the rows (row-major:
+/// cache friendly), wrapping in v on periodic surfaces, clamped at the ends otherwise. The
+/// columns are split into blocks over the cores; each column's sums are the same either way.
 void box_columns(const PixelGrid& g, std::vector<double>& values, int r) {
     const int w = g.width, h = g.height;
     r = std::min(r, (h - 1) / 2);
@@ -42,21 +43,25 @@ void box_columns(const PixelGrid& g, std::vector<double>& values, int r) {
         y = g.wrap_v ? ((y % h) + h) % h : std::clamp(y, 0, h - 1);
         return &in[g.index(0, y)];
     };
-    std::vector<double> sum(static_cast<std::size_t>(w), 0.0);
-    for (int y = -r; y <= r; ++y) {
-        const double* src = row(y);
-        for (int x = 0; x < w; ++x)
-            sum[static_cast<std::size_t>(x)] += src[x];
-    }
     const double inv = 1.0 / (2 * r + 1);
-    for (int y = 0; y < h; ++y) {
-        double* dst = &values[g.index(0, y)];
-        const double *add = row(y + r + 1), *sub = row(y - r);
-        for (int x = 0; x < w; ++x) {
-            dst[x] = sum[static_cast<std::size_t>(x)] * inv;
-            sum[static_cast<std::size_t>(x)] += add[x] - sub[x];
+    const int block = std::max(16, w / 64), blocks = (w + block - 1) / block;
+    parallel_rows(blocks, [&](int b) {
+        const int x0 = b * block, x1 = std::min(w, x0 + block);
+        std::vector<double> sum(static_cast<std::size_t>(x1 - x0), 0.0);
+        for (int y = -r; y <= r; ++y) {
+            const double* src = row(y);
+            for (int x = x0; x < x1; ++x)
+                sum[static_cast<std::size_t>(x - x0)] += src[x];
         }
-    }
+        for (int y = 0; y < h; ++y) {
+            double* dst = &values[g.index(0, y)];
+            const double *add = row(y + r + 1), *sub = row(y - r);
+            for (int x = x0; x < x1; ++x) {
+                dst[x] = sum[static_cast<std::size_t>(x - x0)] * inv;
+                sum[static_cast<std::size_t>(x - x0)] += add[x] - sub[x];
+            }
+        }
+    });
 }
 
 /// The crack flag comes from an un-antialiased pass, so the step from a crack pixel to a lip
@@ -161,10 +166,12 @@ std::vector<float> masked_blur(const PixelGrid& g, const std::vector<float>& val
     const int w = g.width, h = g.height;
     // Channel 0: value · mask, channel 1: mask.
     std::vector<double> a(g.pixels()), b(g.pixels());
-    for (std::size_t i = 0; i < g.pixels(); ++i) {
-        b[i] = mask[i] ? 1.0 : 0.0;
-        a[i] = b[i] * values[i];
-    }
+    parallel_rows(h, [&](int y) {
+        for (std::size_t i = g.index(0, y), end = i + static_cast<std::size_t>(w); i < end; ++i) {
+            b[i] = mask[i] ? 1.0 : 0.0;
+            a[i] = b[i] * values[i];
+        }
+    });
     for (int pass = 0; pass < 3; ++pass) {
         parallel_rows(h, [&](int y) {
             std::vector<double> tmp;
@@ -175,8 +182,10 @@ std::vector<float> masked_blur(const PixelGrid& g, const std::vector<float>& val
             box_columns(g, *channel, r);
     }
     std::vector<float> out(values);
-    for (std::size_t i = 0; i < g.pixels(); ++i)
-        if (b[i] > 1e-6) out[i] = static_cast<float>(a[i] / b[i]);
+    parallel_rows(h, [&](int y) {
+        for (std::size_t i = g.index(0, y), end = i + static_cast<std::size_t>(w); i < end; ++i)
+            if (b[i] > 1e-6) out[i] = static_cast<float>(a[i] / b[i]);
+    });
     return out;
 }
 
@@ -200,13 +209,15 @@ Relief shape_relief(const RasterLayers& layers, const ReliefOptions& o) {
         // Wide smoothing at half resolution: the plates' mean height over each 2 × 2 block.
         const PixelGrid coarse = half_grid(g);
         std::vector<float> sum(coarse.pixels(), 0.0f), count(coarse.pixels(), 0.0f);
-        for (int y = 0; y < g.height; ++y)
-            for (int x = 0; x < g.width; ++x)
-                if (plate[g.index(x, y)]) {
-                    const std::size_t c = coarse.index(x / 2, y / 2);
-                    sum[c] += layers.height[g.index(x, y)];
-                    count[c] += 1.0f;
-                }
+        parallel_rows(coarse.height, [&](int cy) {
+            for (int y = 2 * cy; y < 2 * cy + 2; ++y)
+                for (int x = 0; x < g.width; ++x)
+                    if (plate[g.index(x, y)]) {
+                        const std::size_t c = coarse.index(x / 2, cy);
+                        sum[c] += layers.height[g.index(x, y)];
+                        count[c] += 1.0f;
+                    }
+        });
         std::vector<std::uint8_t> any(coarse.pixels());
         for (std::size_t c = 0; c < coarse.pixels(); ++c) {
             any[c] = count[c] > 0;
@@ -233,15 +244,13 @@ Relief shape_relief(const RasterLayers& layers, const ReliefOptions& o) {
     std::vector<std::vector<float>> distance;
     std::vector<double> class_weight;
     for (int k = 0; k < CLASSES; ++k) {
-        const double threshold = double(k) / CLASSES;
+        const float threshold = static_cast<float>(double(k) / CLASSES);
         std::vector<std::uint8_t> source(px, 0);
-        std::size_t count = 0;
-        for (std::size_t i = 0; i < px; ++i)
-            if (layers.crack[i] && layers.weight[i] >= threshold) {
-                source[i] = 1;
-                ++count;
-            }
-        if (k > 0 && count == 0) break;
+        parallel_rows(g.height, [&](int y) {
+            for (std::size_t i = g.index(0, y), end = i + static_cast<std::size_t>(g.width); i < end; ++i)
+                source[i] = layers.crack[i] && layers.weight[i] >= threshold;
+        });
+        if (k > 0 && std::find(source.begin(), source.end(), 1) == source.end()) break;
         const double weight = double(k + 1) / CLASSES; // the class's upper edge: weight 1 reaches fully
         // Where two grooves meet, the distance has a crease (equal distance to both cracks) that
         // shades as a sharp spike; a blur over a quarter of the groove's reach rounds it off.

@@ -2,6 +2,7 @@
 /// @file Top-face stresses of every element of a wedge-FEM layer, cached and moved along the
 /// affine-in-time solution (shared by the FEM fracture methods).
 
+#include "core/parallel.hpp"
 #include "core/timer.hpp"
 #include "sim/fem_model.hpp"
 
@@ -46,8 +47,20 @@ public:
     void refresh_all() {
         m_all_changed = true;
         resize();
+        // Every element's stress reads only its own nodes and writes only its own entries: on
+        // all cores, with the same bits as one by one (a global clean-up's refresh was 9 % of mud).
+        parallel_rows(static_cast<int>(m_s0.size()), [&](int row) {
+            const auto f = static_cast<std::size_t>(row);
+            if (!m_model.alive(mesh::face_id(f))) {
+                m_ratio[f] = 0.0;
+                return;
+            }
+            m_s0[f] = m_model.top_stress(mesh::face_id(f));
+            m_rate[f] = m_model.top_stress_rate(mesh::face_id(f));
+            if (m_ratios) m_ratio[f] = ratio_at(f, 0.0);
+        });
         for (std::size_t f = 0; f < m_s0.size(); ++f)
-            refresh(f);
+            m_changed.push_back(static_cast<std::uint32_t>(f));
     }
 
     /// Re-evaluates the elements around the given vertices (§5.8.4: recompute stresses only
