@@ -5,9 +5,10 @@
 
 int main(int argc, char** argv) {
     // Big buffers (maps, matrices) come from the heap and go back to it, not to the kernel: by
-    // default glibc maps every block over 32 MB afresh, and on these KVM guests a page fault is
-    // dear — the bake's relief pass spent half its time faulting in pages it had just freed
-    // (2048² mud: relief 6.2 s → 3.4 s, maps byte-identical; docs/benchmarks.md, "Bake").
+    // default glibc maps large blocks (all over 32 MB) with mmap and unmaps them when freed, and
+    // on these KVM guests a page fault is dear — the bake's relief pass spent half its time
+    // faulting in pages it had just freed (2048² mud: relief 6.2 s → 3.4 s, maps byte-identical,
+    // peak memory 591 → 719 MB; docs/benchmarks.md, "Speed-ups and what they kept").
     mallopt(M_MMAP_MAX, 0);
     mallopt(M_TRIM_THRESHOLD, 1 << 30);
     return crackle::app::run(argc, argv, std::cout, std::cerr);
