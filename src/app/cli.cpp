@@ -1,6 +1,7 @@
 #include "app/cli.hpp"
 
 #include "app/bench.hpp"
+#include "app/bench_scale.hpp"
 #include "app/bench_speedup.hpp"
 #include "app/commands.hpp"
 #include "app/study.hpp"
@@ -209,10 +210,11 @@ int run(int argc, const char* const* argv, std::ostream& out, std::ostream& err)
     bench->add_option(
         "MICRO", bench_args.scenes,
         "Speed micro-benchmarks instead of the study: solve, local, fem-remove, fem-split, mass-spring, bake; "
-        "or speedup (this build against --baseline)");
+        "speedup (this build against --baseline), or scale (cost against tile area and refinement, charted)");
     std::string baseline;
     bench->add_option("--baseline", baseline,
-                      "bench speedup: the crackle executable to compare with (scripts/bench-baseline REV builds one)");
+                      "bench speedup, bench scale: the crackle executable to compare with (scripts/bench-baseline REV "
+                      "builds one)");
     bench->add_flag("--quick", bench_args.quick, "A small subset (the study in about a minute; what CI runs)");
     bench->add_option("--out", study_out, "Output folder (study: runs.csv, points.csv, charts; default: bench)");
     bench
@@ -291,6 +293,14 @@ int run(int argc, const char* const* argv, std::ostream& out, std::ostream& err)
             if (study_args.seeds > 0) speedup.seeds = study_args.seeds;
             speedup.out_dir = study_out;
             code = speedup_command(speedup, out);
+        } else if (bench->parsed() && bench_args.scenes == std::vector<std::string>{"scale"}) {
+            ScaleArgs scale;
+            scale.baseline = baseline;
+            scale.quick = bench_args.quick;
+            if (study_args.seeds > 0) scale.seeds = study_args.seeds;
+            scale.charts = !no_charts;
+            scale.out_dir = study_out;
+            code = scale_command(scale, out);
         } else if (bench->parsed() && !bench_args.scenes.empty()) {
             bench_args.out_dir = study_out;
             code = bench_command(bench_args, out);

@@ -55,6 +55,7 @@ Json run_json(const SimulationResult& r) {
     j["local_nodes"] = s.local_nodes;
     j["local_fallbacks"] = s.local_fallbacks;
     j["global_cleanups"] = s.global_cleanups;
+    j["local_cleanups"] = s.local_cleanups;
     j["drift_relaxations"] = s.drift_relaxations;
     j["solve_seconds"] = s.solve_seconds;
     j["stress_seconds"] = s.stress_seconds;
@@ -83,6 +84,7 @@ fracture::RunStats run_from_json(const Json& j) {
     s.local_nodes = count_of(j, "local_nodes");
     s.local_fallbacks = count_of(j, "local_fallbacks");
     s.global_cleanups = count_of(j, "global_cleanups");
+    s.local_cleanups = count_of(j, "local_cleanups");
     s.drift_relaxations = count_of(j, "drift_relaxations");
     s.solve_seconds = number_of(j, "solve_seconds");
     s.stress_seconds = number_of(j, "stress_seconds");

@@ -106,6 +106,7 @@ Json simulation_report(const io::Preset& preset, const SimulationResult& r, cons
     report["local_mean_nodes"] = r.run.local_solves ? double(r.run.local_nodes) / double(r.run.local_solves) : 0.0;
     report["local_fallbacks"] = r.run.local_fallbacks;
     report["global_cleanups"] = r.run.global_cleanups;
+    report["local_cleanups"] = r.run.local_cleanups;
     report["drift_relaxations"] = r.run.drift_relaxations;
     report["stiffness_rebuilds"] = r.run.stiffness_rebuilds;
     report["crack_length"] = st.crack_length;

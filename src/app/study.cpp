@@ -398,15 +398,9 @@ int study_command(const StudyArgs& args, std::ostream& out) {
     write_file_atomically(out_dir / "summary.md", md);
     out << md;
     if (!python.empty()) {
-        std::string script;
-        for (const EmbeddedFile& f : embedded::scripts())
-            if (f.name == "bench_charts") script = std::string(f.text);
-        const int rc = run_python(
-            python, script, {(out_dir / "runs.csv").string(), (out_dir / "points.csv").string(), out_dir.string()},
-            out_dir / "charts.log");
-        if (rc != 0)
-            throw NumericError("drawing the charts failed (exit " + std::to_string(rc) + "); see "
-                               + (out_dir / "charts.log").string() + ".err");
+        run_chart_script(python, "bench_charts",
+                         {(out_dir / "runs.csv").string(), (out_dir / "points.csv").string(), out_dir.string()},
+                         out_dir / "charts.log");
         out << "\ncharts: " << (out_dir / "error_vs_time.png").string() << ", cost_vs_elements.png, time_shares.png\n";
     }
     return 0;

@@ -1,5 +1,6 @@
 #include "app/study_runner.hpp"
 
+#include "core/embedded.hpp"
 #include "core/error.hpp"
 #include "core/timer.hpp"
 #include "fracture/bar1d.hpp"
@@ -152,14 +153,20 @@ std::string find_python_with_matplotlib() {
     return "";
 }
 
-int run_python(const std::string& python, const std::string& script, const std::vector<std::string>& args,
-               const std::filesystem::path& log) {
+void run_chart_script(const std::string& python, const std::string& name, const std::vector<std::string>& args,
+                      const std::filesystem::path& log) {
+    std::string script;
+    for (const EmbeddedFile& f : embedded::scripts())
+        if (f.name == name) script = std::string(f.text);
+    CRACKLE_ASSERT(!script.empty(), "every chart script is embedded");
     std::vector<std::string> argv = {python, "-c", script};
     for (const auto& a : args)
         argv.push_back(a);
     double ignored = 0;
     const int status = wait_child(spawn(argv, log, log.string() + ".err"), 0, {}, ignored);
-    return WIFEXITED(status) ? WEXITSTATUS(status) : 128;
+    const int rc = WIFEXITED(status) ? WEXITSTATUS(status) : 128;
+    if (rc != 0)
+        throw NumericError("drawing the charts failed (exit " + std::to_string(rc) + "); see " + log.string() + ".err");
 }
 
 StatMap read_stats(const RunOutcome& o) {

@@ -38,8 +38,9 @@ RunOutcome run_bar(const StudyRun& run);
 /// "" when none does.
 std::string find_python_with_matplotlib();
 
-/// Runs `python -c <script> args…`, stdout and stderr to `log`; returns the exit status.
-int run_python(const std::string& python, const std::string& script, const std::vector<std::string>& args,
-               const std::filesystem::path& log);
+/// Runs the embedded chart script scripts/<name>.py as `python -c <script> args…`, stdout to
+/// `log` and stderr to `log`.err. Throws NumericError, naming the log, when it fails.
+void run_chart_script(const std::string& python, const std::string& name, const std::vector<std::string>& args,
+                      const std::filesystem::path& log);
 
 } // namespace crackle::app

@@ -44,6 +44,10 @@ struct FractureOptions {
     /// length. The rate solution is checked the same way (per unit of the run's duration) at
     /// every time step, before Alg. 5 uses it.
     double drift_tolerance = 1e-2;
+    /// A time step's clean-up (when some nodal force passes 1e-3 of a threshold-level one) first
+    /// solves locally around the nodes over this share and accepts the result when no nodal force
+    /// is left over it; otherwise, or with 0, it relaxes globally.
+    double cleanup_tolerance = 1e-4;
     RunHooks hooks;
 
     bool operator==(const FractureOptions&) const = default;
@@ -57,6 +61,7 @@ struct RunStats {
     std::size_t stiffness_rebuilds = 0;
     long long solver_iterations = 0;
     std::size_t local_solves = 0, local_nodes = 0, local_fallbacks = 0, global_cleanups = 0;
+    std::size_t local_cleanups = 0;    ///< time-step clean-ups settled by local solves
     std::size_t drift_relaxations = 0; ///< global relaxations after the §5.8.3 residual check
     double solve_seconds = 0;          ///< equilibrium: local and global solves, moving along the rate
     double stress_seconds = 0;         ///< stress evaluation, candidate search, Alg. 5's bracketing

@@ -129,6 +129,8 @@ public:
     const std::vector<std::size_t>& last_updated_vertices() const { return m_updated; }
     /// Largest nodal force left in the position residual (N).
     double max_residual_force();
+    /// The vertices whose position residual force exceeds `force` (N), ascending.
+    std::vector<std::size_t> vertices_over_residual(double force);
     /// The same for the rate solution ẋ (N per unit time).
     double max_rate_residual_force();
     /// A nodal force that cracks an element: mean threshold × thickness × edge length (N).

@@ -170,6 +170,15 @@ double FemModel::max_residual_force() {
     return max_residual(Unknown::Position);
 }
 
+std::vector<std::size_t> FemModel::vertices_over_residual(double force) {
+    ensure_residual(Unknown::Position);
+    const Field& fd = field(Unknown::Position);
+    std::vector<std::size_t> out;
+    for (std::size_t v = 0; v < m_mesh.num_vertices(); ++v)
+        if (fd.residual.segment<3>(static_cast<Eigen::Index>(3 * v)).squaredNorm() > force * force) out.push_back(v);
+    return out;
+}
+
 double FemModel::max_rate_residual_force() {
     return max_residual(Unknown::Rate);
 }

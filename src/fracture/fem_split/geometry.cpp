@@ -2,6 +2,7 @@
 #include "fracture/fem_split/splitter.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -106,16 +107,24 @@ bool on_border(const sim::FemModel& model, std::size_t v) {
 
 bool is_tip(const sim::FemModel& model, std::size_t v) {
     const mesh::SurfaceMesh& m = model.mesh();
-    std::vector<Vec3> out;
+    // Called for every node at every time step: count the border edges first, and take
+    // directions (no allocation) only when there are exactly two.
+    std::array<std::pair<std::uint32_t, int>, 2> edges; // (face, far corner)
+    int count = 0;
     for (std::uint32_t f : model.incident_faces(v)) {
         const int k = corner_of(m, f, v);
-        const Vec3 p = m.corner_position(face_id(f), k);
-        if (m.neighbor(face_id(f), k).face == mesh::NO_FACE)
-            out.push_back((m.corner_position(face_id(f), (k + 1) % 3) - p).normalized());
-        if (m.neighbor(face_id(f), (k + 2) % 3).face == mesh::NO_FACE)
-            out.push_back((m.corner_position(face_id(f), (k + 2) % 3) - p).normalized());
+        for (const auto& [side, far] : {std::pair{k, (k + 1) % 3}, std::pair{(k + 2) % 3, (k + 2) % 3}})
+            if (m.neighbor(face_id(f), side).face == mesh::NO_FACE) {
+                if (count == 2) return false;
+                edges[static_cast<std::size_t>(count++)] = {f, far};
+            }
     }
-    return out.size() == 2 && out[0].dot(out[1]) > 1 - 1e-9;
+    if (count != 2) return false;
+    auto direction = [&](const std::pair<std::uint32_t, int>& e) {
+        const Vec3 p = m.corner_position(face_id(e.first), corner_of(m, e.first, v));
+        return Vec3((m.corner_position(face_id(e.first), e.second) - p).normalized());
+    };
+    return direction(edges[0]).dot(direction(edges[1])) > 1 - 1e-9;
 }
 
 } // namespace crackle::fracture::split_detail

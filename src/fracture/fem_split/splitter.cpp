@@ -95,14 +95,21 @@ void Splitter::advance_time() {
         std::size_t v;
         Mat2 T0, T1;
         double threshold;
+        mutable signed char eligible = -1; ///< not a tip that is not waiting, not excluded; −1: not asked yet
     };
     std::vector<NodeLine> lines;
     std::vector<char> dormant(nv, 0);
     for (std::size_t t : m_dormant)
         if (t < nv) dormant[t] = 1;
+    // Waiting tips take part too: the step ends when one of them reaches the threshold. Asked
+    // only of nodes over it at some probe (it walks the node's fan: 7 % of a 20000-element run
+    // when asked of every node at every step).
+    auto eligible = [&](const NodeLine& l) {
+        if (l.eligible < 0) l.eligible = !((is_tip(m_model, l.v) && !dormant[l.v]) || excluded(l.v));
+        return l.eligible == 1;
+    };
     for (std::size_t v = 0; v < nv; ++v) {
-        // Waiting tips take part too: the step ends when one of them reaches the threshold.
-        if (m_model.incident_faces(v).empty() || (is_tip(m_model, v) && !dormant[v]) || excluded(v)) continue;
+        if (m_model.incident_faces(v).empty()) continue;
         NodalStress means;
         Mat3 s0, s1;
         if (!nodal_tensor(
@@ -117,7 +124,7 @@ void Splitter::advance_time() {
         const double tau = t - t0;
         bool any = false;
         for (const NodeLine& l : lines)
-            if (max_eigenvalue(l.T0 + tau * l.T1) > l.threshold) {
+            if (max_eigenvalue(l.T0 + tau * l.T1) > l.threshold && eligible(l)) {
                 any = true;
                 if (!which) return true;
                 which->push_back(l);

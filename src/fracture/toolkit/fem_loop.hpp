@@ -98,10 +98,44 @@ inline const std::vector<std::size_t>& relax_after_change(sim::FemModel& model, 
     return model.last_updated_vertices();
 }
 
+/// A time step's clean-up done where the residual is (§5.8.3): up to three local solves seeded
+/// at the nodes whose residual force exceeds FractureOptions::cleanup_tolerance of a
+/// threshold-level force, each pushing out no more than that; the stresses are refreshed where
+/// nodes moved. Returns false when that did not bring every nodal force under the target (the
+/// caller relaxes globally). `radius` starts the local sets and is kept.
+inline bool settle_locally(sim::FemModel& model, StressCache& cache, const FractureOptions& options,
+                           const sim::LocalRelaxOptions& local, double& radius, RunStats& stats) {
+    const double target = options.cleanup_tolerance * model.force_scale();
+    for (int round = 0;; ++round) {
+        Timer timer;
+        const std::vector<std::size_t> seeds = model.vertices_over_residual(target);
+        if (seeds.empty() || round == 3) {
+            stats.solve_seconds += timer.seconds();
+            return seeds.empty();
+        }
+        sim::LocalRelaxOptions to_target = local;
+        to_target.tolerance = target / model.max_residual_force();
+        const sim::SolveStats s = model.relax_local(seeds, radius, to_target);
+        stats.solver_iterations += s.iterations;
+        ++stats.solves;
+        ++stats.local_solves;
+        stats.local_nodes += s.nodes;
+        stats.local_fallbacks += s.fell_back;
+        stats.solve_seconds += timer.seconds();
+        timer.reset();
+        if (s.fell_back)
+            cache.refresh_all(); // solved globally: every node moved
+        else
+            cache.refresh_around(model.last_updated_vertices());
+        stats.stress_seconds += timer.seconds();
+    }
+}
+
 /// Once per time step (§5.8): settles the rate solution around `rate_seeds` (the vertices whose
 /// elements changed since the last step; cleared), then relaxes globally when the local
 /// relaxations have left forces that could shift a stress by 1e-3 of a threshold (the thesis
-/// relaxes globally every time step). Refreshes the cache where needed; times go to `stats`.
+/// relaxes globally every time step): locally where that settles it, else globally. Refreshes the cache where needed;
+/// times go to `stats`.
 inline void settle_time_step(sim::FemModel& model, StressCache& cache, const FractureOptions& options,
                              const sim::LocalRelaxOptions& local, double& rate_radius,
                              std::vector<std::size_t>& rate_seeds, RunStats& stats) {
@@ -134,9 +168,16 @@ inline void settle_time_step(sim::FemModel& model, StressCache& cache, const Fra
     }
     timer.reset();
     if (options.local_relaxation && model.max_residual_force() > 1e-3 * model.force_scale()) {
-        stats.global_cleanups += 1;
         stats.solve_seconds += timer.seconds();
-        relax_all(model, cache, stats);
+        // Where the residual is first: a global clean-up is a solve over the whole layer and
+        // a refresh of every stress, O(N) per time step (the time steps grow like the area).
+        double radius = rate_radius;
+        if (options.cleanup_tolerance > 0 && settle_locally(model, cache, options, local, radius, stats)) {
+            stats.local_cleanups += 1;
+        } else {
+            stats.global_cleanups += 1;
+            relax_all(model, cache, stats);
+        }
     } else {
         stats.solve_seconds += timer.seconds();
     }

@@ -104,6 +104,7 @@ TEST_SUITE("sim") {
             load(*a.model);
             load(*b.model);
             const Eigen::MatrixXd K0(a.model->stiffness());
+            const Eigen::Index stored0 = a.model->stiffness().nonZeros();
             const std::size_t faces0 = a.model->mesh().num_faces();
             const std::vector<mesh::FaceId> faces = some_faces(*a.model, 8);
             a.model->begin_trial(/*stiffness_only=*/true);
@@ -130,7 +131,16 @@ TEST_SUITE("sim") {
             b.model->rollback();
             CHECK(a.model->mesh().num_faces() == faces0);
             CHECK(Eigen::MatrixXd(a.model->stiffness()) == K0);
+            // The rows come back as they were stored, not with zeros where the trial added.
+            CHECK(a.model->stiffness().nonZeros() == stored0);
             CHECK(same_positions(*a.model, *b.model));
+            // The matrix cut back in place grows again for the next change, and equals a full
+            // reassembly then.
+            for (mesh::FaceId f : faces)
+                a.model->subdivide(f);
+            const Eigen::MatrixXd full(a.model->assemble_from_scratch());
+            CHECK((Eigen::MatrixXd(a.model->stiffness()) - full).cwiseAbs().maxCoeff()
+                  <= 1e-12 * full.cwiseAbs().maxCoeff());
         }
     }
 
