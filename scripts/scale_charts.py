@@ -63,6 +63,8 @@ if first:
     for k, style in ((1.0, ":"), (1.1, "--")):
         ax_t.loglog([n0, n1], [t0, t0 * (n1 / n0) ** k], style, color="black", lw=0.8,
                     label=f"slope {k:g} from the first point")
+for ax in (ax_t, ax_m):
+    ax.set_xticks([float(r["elements"]) for r in first])
 ax_t.set_title("Scale: tiles of growing area at 2 elements per h²")
 ax_t.set_xlabel("elements")
 ax_t.set_ylabel("wall time (s)")

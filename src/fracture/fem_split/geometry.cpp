@@ -17,10 +17,14 @@ int corner_of(const mesh::SurfaceMesh& m, std::size_t f, std::size_t v) {
 
 NodeFrame node_frame(const sim::FemModel& model, std::size_t v) {
     const Mat3 G = Mat3::Identity() + model.time() * model.growth().tensor();
+    return node_frame(model, v, G, G.inverse());
+}
+
+NodeFrame node_frame(const sim::FemModel& model, std::size_t v, const Mat3& G, const Mat3& G_inv) {
     const Vec3& p0 = model.mesh().positions[vertex_id(v)];
     const mesh::TangentFrame fr = model.surface().frame(p0);
     NodeFrame out;
-    out.G_inv = G.inverse();
+    out.G_inv = G_inv;
     out.n = (out.G_inv.transpose() * fr.n).normalized();
     const Vec3 e1 = G * fr.e_u;
     out.e1 = (e1 - e1.dot(out.n) * out.n).normalized();

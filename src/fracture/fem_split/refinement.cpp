@@ -12,22 +12,22 @@ std::vector<FaceId> Splitter::subdivide_around(std::size_t v, double size, std::
     std::vector<FaceId> touched;
     m_model.defer_updates(); // K's rows once, at the end
     for (int round = 0; round < 64; ++round) {
-        // The vicinity: v's faces and every face sharing a vertex with them.
-        std::vector<std::uint32_t> ring;
-        for (std::uint32_t f : m_model.incident_faces(v))
-            for (VertexId w : m_model.mesh().faces[face_id(f)].v)
-                for (std::uint32_t g : m_model.incident_faces(ix(w)))
-                    ring.push_back(g);
-        std::sort(ring.begin(), ring.end());
-        ring.erase(std::unique(ring.begin(), ring.end()), ring.end());
+        // The vicinity: v's faces and every face sharing a vertex with them; the longest alive
+        // one over `size`, the lowest index among equals (faces met more than once compare
+        // equal to themselves: no sort needed, and a sub-model runs many rounds).
         constexpr std::uint32_t none = std::numeric_limits<std::uint32_t>::max();
         std::uint32_t coarse = none;
         double longest = size;
-        for (std::uint32_t f : ring)
-            if (m_model.alive(face_id(f)) && m_model.element_size(face_id(f)) > longest) {
-                longest = m_model.element_size(face_id(f));
-                coarse = f;
-            }
+        for (std::uint32_t f : m_model.incident_faces(v))
+            for (VertexId w : m_model.mesh().faces[face_id(f)].v)
+                for (std::uint32_t g : m_model.incident_faces(ix(w))) {
+                    if (!m_model.alive(face_id(g))) continue;
+                    const double length = m_model.element_size(face_id(g));
+                    if (length > longest || (coarse != none && length == longest && g < coarse)) {
+                        longest = length;
+                        coarse = g;
+                    }
+                }
         if (coarse == none) break;
         const std::vector<FaceId> faces = m_model.subdivide(face_id(coarse));
         touched.insert(touched.end(), faces.begin(), faces.end());

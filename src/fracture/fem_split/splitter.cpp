@@ -108,6 +108,8 @@ void Splitter::advance_time() {
         if (l.eligible < 0) l.eligible = !((is_tip(m_model, l.v) && !dormant[l.v]) || excluded(l.v));
         return l.eligible == 1;
     };
+    const Mat3 G = Mat3::Identity() + m_model.time() * m_model.growth().tensor();
+    const Mat3 G_inv = G.inverse();
     for (std::size_t v = 0; v < nv; ++v) {
         if (m_model.incident_faces(v).empty()) continue;
         NodalStress means;
@@ -117,7 +119,7 @@ void Splitter::advance_time() {
             continue;
         nodal_tensor(
             m_model, v, [&](std::size_t f) -> const sim::TopStress& { return m_cache.rate(f); }, s1, means);
-        const NodeFrame fr = node_frame(m_model, v);
+        const NodeFrame fr = node_frame(m_model, v, G, G_inv);
         lines.push_back({v, project(fr, s0), project(fr, s1), means.threshold});
     }
     auto over = [&](double t, std::vector<NodeLine>* which) {

@@ -32,6 +32,8 @@ struct NodeFrame {
 };
 
 NodeFrame node_frame(const sim::FemModel& model, std::size_t v);
+/// The same with the growth map G at the model's time and its inverse given (one per time step).
+NodeFrame node_frame(const sim::FemModel& model, std::size_t v, const Mat3& G, const Mat3& G_inv);
 
 /// A 3D stress tensor projected on the tangent plane (2×2, symmetric).
 Mat2 project(const NodeFrame& fr, const Mat3& sigma);
