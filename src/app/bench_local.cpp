@@ -2,6 +2,7 @@
 /// re-solve of the same event, on mud layers at a fixed resolution per layer thickness (issue 15;
 /// docs/perf-limits.md measured the limit on these machines).
 #include "app/bench.hpp"
+#include "app/bench_scale.hpp"
 #include "app/scene.hpp"
 #include "core/json.hpp"
 #include "core/rng.hpp"
@@ -38,7 +39,7 @@ Json bench_local(const std::vector<std::size_t>& sizes, int events, std::ostream
     Json rows = Json::array();
     for (std::size_t n : sizes) {
         // The tile grows with the count, so the elements per layer thickness stay those of "auto".
-        const double h = 0.01, side = std::sqrt(static_cast<double>(n) * h * h / 2.0);
+        const double side = mud_auto_side(static_cast<long long>(n));
         io::PresetRequest request;
         request.name_or_path = "mud";
         request.overrides = {"simulation.elements=" + std::to_string(n),

@@ -53,6 +53,15 @@ double stat(const std::vector<StatMap>& runs, const char* key) {
 
 } // namespace
 
+double mud_auto_side(long long elements) {
+    io::PresetRequest request;
+    request.name_or_path = "mud";
+    const io::Preset mud = io::load_preset(request);
+    const std::vector<double>& thickness = mud.numbers("material.thickness");
+    const double h = 0.5 * (thickness.front() + thickness.back());
+    return std::sqrt(static_cast<double>(elements) * h * h / 2.0);
+}
+
 double loglog_slope(const std::vector<double>& size, const std::vector<double>& cost) {
     const std::size_t n = std::min(size.size(), cost.size());
     if (n < 2) return NAN;
@@ -86,18 +95,14 @@ int scale_command(const ScaleArgs& args, std::ostream& out) {
     const std::filesystem::path out_dir = args.out_dir.empty() ? std::filesystem::path("bench") : args.out_dir;
     std::filesystem::create_directories(out_dir);
 
-    // The tile side for 2 elements per h² (the "auto" rule) read from the preset itself.
     io::PresetRequest request;
     request.name_or_path = "mud";
-    const io::Preset mud = io::load_preset(request);
-    const std::vector<double>& thickness = mud.numbers("material.thickness");
-    const double h = 0.5 * (thickness.front() + thickness.back());
-    const double tile = mud.numbers("surface.size").front();
+    const double tile = io::load_preset(request).numbers("surface.size").front();
     std::vector<Point> points;
     const std::vector<long long> scale_sizes =
         args.quick ? std::vector<long long>{300, 600} : std::vector<long long>{2500, 5000, 10000, 20000};
     for (long long n : scale_sizes)
-        points.push_back({"scale", n, std::sqrt(static_cast<double>(n) * h * h / 2.0)});
+        points.push_back({"scale", n, mud_auto_side(n)});
     const std::vector<long long> refine_sizes =
         args.quick ? std::vector<long long>{300, 600} : std::vector<long long>{1250, 2500, 5000, 10000};
     for (long long n : refine_sizes)

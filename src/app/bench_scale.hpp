@@ -21,6 +21,10 @@ struct ScaleArgs {
     std::filesystem::path out_dir;  ///< scale.csv, scale.json, scale.png ("" = bench)
 };
 
+/// The side (m) of a square mud tile that holds `elements` at the "auto" rule's 2 elements per
+/// h² of the preset's mean layer thickness: the tile that grows with the count.
+double mud_auto_side(long long elements);
+
 /// Log-log least-squares slope of cost against size (NaN with fewer than two points).
 double loglog_slope(const std::vector<double>& size, const std::vector<double>& cost);
 
