@@ -61,7 +61,9 @@ struct RunStats {
     std::size_t stiffness_rebuilds = 0;
     long long solver_iterations = 0;
     std::size_t local_solves = 0, local_nodes = 0, local_fallbacks = 0, global_cleanups = 0;
-    std::size_t local_cleanups = 0;    ///< time-step clean-ups settled by local solves
+    /// Time-step clean-ups settled without a global relaxation (a local set that grew past
+    /// LocalRelaxOptions::max_fraction was solved globally instead: local_fallbacks counts it).
+    std::size_t local_cleanups = 0;
     std::size_t drift_relaxations = 0; ///< global relaxations after the §5.8.3 residual check
     double solve_seconds = 0;          ///< equilibrium: local and global solves, moving along the rate
     double stress_seconds = 0;         ///< stress evaluation, candidate search, Alg. 5's bracketing

@@ -134,8 +134,8 @@ inline bool settle_locally(sim::FemModel& model, StressCache& cache, const Fract
 /// Once per time step (§5.8): settles the rate solution around `rate_seeds` (the vertices whose
 /// elements changed since the last step; cleared), then relaxes globally when the local
 /// relaxations have left forces that could shift a stress by 1e-3 of a threshold (the thesis
-/// relaxes globally every time step): locally where that settles it, else globally. Refreshes the cache where needed;
-/// times go to `stats`.
+/// relaxes globally every time step): locally where that settles it, else globally. Refreshes
+/// the cache where needed; times go to `stats`.
 inline void settle_time_step(sim::FemModel& model, StressCache& cache, const FractureOptions& options,
                              const sim::LocalRelaxOptions& local, double& rate_radius,
                              std::vector<std::size_t>& rate_seeds, RunStats& stats) {
