@@ -129,6 +129,8 @@ int export_command(const ExportArgs& args, const GlobalOptions& global, std::ost
     const std::string name = bake_names(preset, BakeOutputs{}).base();
     const std::filesystem::path file = args.out_path.empty() ? std::filesystem::path("out") / (name + "." + args.format)
                                                              : std::filesystem::path(args.out_path);
+    check_output_path(file, "--out");
+    if (!args.json_path.empty()) check_output_path(args.json_path, "--json");
     const ProgressPlan plan(progress_stages(preset, true));
     const Baked b = bake_pipeline(preset, times, args.shader_dir, {args.pattern_path, !args.no_cache});
 

@@ -60,6 +60,10 @@ Json bake_one(const io::Preset& preset, const BakeOutputs& outputs, const Output
               const std::string& shader_dir, const PatternOptions& pattern, StepTimes& times, Baked* keep) {
     Timer total, step;
     const std::vector<io::MapRequest> requests = bake_maps(preset);
+    // Where the files go is checked before any work (issue 16: a bad --out was found only after
+    // the whole simulation and bake).
+    check_output_path(outputs.dir / (names.base() + ".png"), "--out");
+    if (!outputs.json_path.empty()) check_output_path(outputs.json_path, "--json");
     const ProgressPlan plan(progress_stages(preset, true));
     Baked b = bake_pipeline(preset, times, shader_dir, pattern);
     progress_stage("encode");

@@ -147,6 +147,11 @@ int simulate_command(const SimulateArgs& args, const GlobalOptions& global, std:
     StepTimes times;
     const io::Preset preset = io::load_preset(args.preset);
     require_available_method(preset);
+    for (const auto& [path, option] : {std::pair{args.save_path, "--save"},
+                                       {args.events_path, "--events"},
+                                       {args.png_path, "--png"},
+                                       {args.json_path, "--json"}})
+        if (!path.empty()) check_output_path(path, option);
     const ProgressPlan plan(progress_stages(preset, false));
     const SimulationResult r = run_simulation(preset, times);
     if (!args.no_cache) cache_store(preset, r); // a bake of the same simulation keys reuses it

@@ -1,4 +1,5 @@
 #include "app/cli.hpp"
+#include "core/atomic_file.hpp"
 
 #include <iostream>
 #include <malloc.h>
@@ -11,5 +12,7 @@ int main(int argc, char** argv) {
     // peak memory 591 → 719 MB; docs/benchmarks.md, "Speed-ups and what they kept").
     mallopt(M_MMAP_MAX, 0);
     mallopt(M_TRIM_THRESHOLD, 1 << 30);
+    // Ctrl-C, TERM and HUP remove the temporaries of files not yet in place (issue 16).
+    crackle::install_interrupt_cleanup();
     return crackle::app::run(argc, argv, std::cout, std::cerr);
 }

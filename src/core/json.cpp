@@ -53,9 +53,49 @@ const std::string& Json::as_string() const {
 }
 
 namespace {
+
+/// Bytes of the valid UTF-8 sequence starting at s[i] (RFC 3629: no overlongs, no surrogates,
+/// nothing past U+10FFFF), or 0 when there is none.
+std::size_t utf8_length(const std::string& s, std::size_t i) {
+    const auto byte = [&](std::size_t k) { return k < s.size() ? static_cast<unsigned char>(s[k]) : 0u; };
+    const unsigned b0 = byte(i);
+    std::size_t n = 0;
+    unsigned lo = 0x80, hi = 0xBF; // the second byte's range
+    if (b0 >= 0xC2 && b0 <= 0xDF)
+        n = 2;
+    else if (b0 >= 0xE0 && b0 <= 0xEF) {
+        n = 3;
+        if (b0 == 0xE0) lo = 0xA0;
+        if (b0 == 0xED) hi = 0x9F;
+    } else if (b0 >= 0xF0 && b0 <= 0xF4) {
+        n = 4;
+        if (b0 == 0xF0) lo = 0x90;
+        if (b0 == 0xF4) hi = 0x8F;
+    } else
+        return 0;
+    if (byte(i + 1) < lo || byte(i + 1) > hi) return 0;
+    for (std::size_t k = 2; k < n; ++k)
+        if (byte(i + k) < 0x80 || byte(i + k) > 0xBF) return 0;
+    return n;
+}
+
+/// A JSON string; bytes that are not UTF-8 (a file name with byte 0xFF) become U+FFFD, so a
+/// report is always valid UTF-8.
 void escape(std::string& out, const std::string& s) {
     out += '"';
-    for (char c : s) {
+    for (std::size_t i = 0; i < s.size(); ++i) {
+        const char c = s[i];
+        const auto u = static_cast<unsigned char>(c);
+        if (u >= 0x80) {
+            const std::size_t n = utf8_length(s, i);
+            if (n == 0) {
+                out += "\ufffd";
+            } else {
+                out.append(s, i, n);
+                i += n - 1;
+            }
+            continue;
+        }
         switch (c) {
         case '"':
             out += "\\\"";
@@ -73,9 +113,9 @@ void escape(std::string& out, const std::string& s) {
             out += "\\r";
             break;
         default:
-            if (static_cast<unsigned char>(c) < 0x20) {
+            if (u < 0x20) {
                 char buf[8];
-                std::snprintf(buf, sizeof buf, "\\u%04x", c);
+                std::snprintf(buf, sizeof buf, "\\u%04x", u);
                 out += buf;
             } else {
                 out += c;

@@ -116,7 +116,10 @@ bool has_toml_extension(const std::string& s) {
 
 /// Finds a preset by name or path. For `extends`, relative names resolve first against
 /// the extending file's folder.
-Source find_source(const std::string& name, const fs::path& relative_to, const SourceLocation& requested_at) {
+/// `from` is the identity of the file whose `extends` asks for `name`: a user's ./mud.toml that
+/// extends "mud" means the built-in, not itself.
+Source find_source(const std::string& name, const fs::path& relative_to, const SourceLocation& requested_at,
+                   const std::string& from = {}) {
     std::vector<fs::path> candidates;
     const std::string file_name = has_toml_extension(name) ? name : name + ".toml";
     if (!relative_to.empty()) candidates.push_back(relative_to / file_name);
@@ -126,7 +129,7 @@ Source find_source(const std::string& name, const fs::path& relative_to, const S
     if (relative_to.empty() && looks_like_path) candidates.push_back(fs::path(file_name));
     for (const fs::path& c : candidates) {
         std::error_code ec;
-        if (fs::is_regular_file(c, ec)) {
+        if (fs::is_regular_file(c, ec) && (from.empty() || fs::weakly_canonical(c, ec).string() != from)) {
             Source s;
             s.display = c.lexically_normal().string();
             s.text = read_file(c, "preset file");
@@ -258,7 +261,7 @@ using Values = std::map<std::string, PresetValue>;
 
 void load_recursive(const std::string& name, const fs::path& relative_to, const SourceLocation& requested_at,
                     std::vector<std::string>& chain, Values& values) {
-    const Source src = find_source(name, relative_to, requested_at);
+    const Source src = find_source(name, relative_to, requested_at, chain.empty() ? std::string() : chain.back());
     if (std::find(chain.begin(), chain.end(), src.identity) != chain.end()) {
         std::string cycle;
         for (const auto& c : chain)

@@ -4,6 +4,7 @@
 #include "io/map_set.hpp"
 
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <sstream>
 
@@ -352,7 +353,17 @@ std::string check_value(const KeySpec& spec, const Value& value) {
             if (std::get<std::string>(value) != "auto") os << "must be \"auto\" or a whole number";
             break;
         }
-        if (!in_range(static_cast<double>(std::get<std::int64_t>(value)))) os << "must be in " << range_text(spec);
+        {
+            // Compared as integers: through a double, 9000000000000000001 passes a bound of 9e18.
+            const std::int64_t v = std::get<std::int64_t>(value);
+            const auto bound = [](double b) {
+                return b >= 9.2e18 ? INT64_MAX : b <= -9.2e18 ? INT64_MIN : static_cast<std::int64_t>(b);
+            };
+            const std::int64_t lo = bound(spec.min), hi = bound(spec.max);
+            const bool below = spec.min_exclusive ? v <= lo : v < lo;
+            const bool above = spec.max_exclusive ? v >= hi : v > hi;
+            if (below || above || !in_range(static_cast<double>(v))) os << "must be in " << range_text(spec);
+        }
         break;
     case ValueType::Enum: {
         const auto& s = std::get<std::string>(value);

@@ -55,7 +55,7 @@ std::vector<float> ambient_occlusion(const PixelGrid& g, const std::vector<float
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_REPEAT);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, g.wrap_v ? GL_REPEAT : GL_CLAMP_TO_EDGE);
     const GlProgram program("ao", shader_source("fullscreen.vert", o.shader_dir),
-                            shader_source("ao.frag", o.shader_dir), o.shader_dir);
+                            shader_source("ao.frag", o.shader_dir), o.shader_dir, {"fullscreen.vert", "ao.frag"});
     const bool half = std::max(W, H) > 1024;
     const int w = half ? std::max(1, W / 2) : W, h = half ? std::max(1, H / 2) : H;
     const int tile = std::min(o.tile, std::max(w, h));

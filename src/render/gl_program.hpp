@@ -4,6 +4,7 @@
 
 #include "core/math.hpp"
 
+#include <array>
 #include <string>
 #include <string_view>
 
@@ -16,9 +17,11 @@ std::string shader_source(const std::string& name, const std::string& shader_dir
 class GlProgram {
 public:
     /// Compiles `vertex` and `fragment` (without #version; common.glsl is prepended) and links.
-    /// Throws NumericError with the info log and the numbered source on failure.
+    /// A built-in shader that fails throws NumericError with the info log and the numbered
+    /// source; a user's shader (from `shader_dir`) throws InputError naming its file and line
+    /// (`files`: the vertex and fragment file names in that folder).
     GlProgram(const std::string& name, const std::string& vertex, const std::string& fragment,
-              const std::string& shader_dir = "");
+              const std::string& shader_dir = "", const std::array<std::string, 2>& files = {});
     ~GlProgram();
     GlProgram(const GlProgram&) = delete;
     GlProgram& operator=(const GlProgram&) = delete;

@@ -224,9 +224,9 @@ RasterLayers rasterize(const post::PieceMesh& pieces, const RasterOptions& o, Gl
     const std::vector<GpuVertex> lines = lip_lines(pieces, weights);
     const GpuBuffer triangle_buffer(triangles), line_buffer(lines);
     const GlProgram height_program("bake", shader_source("bake.vert", o.shader_dir),
-                                   shader_source("bake.frag", o.shader_dir), o.shader_dir);
+                                   shader_source("bake.frag", o.shader_dir), o.shader_dir, {"bake.vert", "bake.frag"});
     const GlProgram label_program("id", shader_source("bake.vert", o.shader_dir),
-                                  shader_source("id.frag", o.shader_dir), o.shader_dir);
+                                  shader_source("id.frag", o.shader_dir), o.shader_dir, {"bake.vert", "id.frag"});
     const double max_height = std::max(pieces.max_height, 1e-6);
 
     // Periodic copies: all 9 neighbours on a torus; across the date line on the sphere.

@@ -22,6 +22,11 @@ std::filesystem::path scratch_dir(const std::string& name);
 /// Writes a text file and returns its path.
 std::filesystem::path write_text(const std::filesystem::path& path, const std::string& text);
 
+/// True when `s` holds `part` (messages in CLI tests).
+inline bool contains(const std::string& s, const std::string& part) {
+    return s.find(part) != std::string::npos;
+}
+
 /// Reads a whole file ("" if missing).
 std::string slurp(const std::filesystem::path& path);
 

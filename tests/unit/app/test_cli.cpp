@@ -12,13 +12,11 @@
 #include <set>
 
 using namespace crackle;
+using test::contains;
 using test::run_cli;
 namespace fs = std::filesystem;
 
 namespace {
-bool contains(const std::string& s, const std::string& part) {
-    return s.find(part) != std::string::npos;
-}
 
 /// A top-level number of a JSON report (NaN if absent).
 double number_field(const std::string& json, const std::string& key) {

@@ -1,0 +1,230 @@
+/// Regression tests for issue 16's findings: outputs checked before any work and placed all or
+/// nothing, bounded messages, integer ranges, `extends` of a built-in from a same-named file,
+/// reports that stay UTF-8, user shaders refused with file:line, and interrupted bakes.
+#include "core/atomic_file.hpp"
+#include "core/error.hpp"
+#include "support/cli_runner.hpp"
+#include "support/gl_support.hpp"
+
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <chrono>
+#include <csignal>
+#include <map>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <thread>
+
+extern char** environ;
+
+using namespace crackle;
+using test::contains;
+using test::run_cli;
+namespace fs = std::filesystem;
+
+namespace {
+
+/// Every file in `dir` by name, with its bytes.
+std::map<std::string, std::string> files_in(const fs::path& dir) {
+    std::map<std::string, std::string> files;
+    if (!fs::exists(dir)) return files;
+    for (const auto& e : fs::directory_iterator(dir))
+        files[e.path().filename().string()] = test::slurp(e.path());
+    return files;
+}
+
+/// True when `s` is valid UTF-8 (RFC 3629).
+bool valid_utf8(const std::string& s) {
+    for (std::size_t i = 0; i < s.size();) {
+        const auto b = static_cast<unsigned char>(s[i]);
+        std::size_t n = b < 0x80 ? 1 : (b >> 5) == 0x6 ? 2 : (b >> 4) == 0xE ? 3 : (b >> 3) == 0x1E ? 4 : 0;
+        if (n == 0 || i + n > s.size()) return false;
+        for (std::size_t k = 1; k < n; ++k)
+            if ((static_cast<unsigned char>(s[i + k]) >> 6) != 0x2) return false;
+        i += n;
+    }
+    return true;
+}
+
+/// Starts the crackle executable; returns its pid.
+pid_t spawn_crackle(const std::vector<std::string>& args) {
+    std::vector<std::string> all{CRACKLE_BINARY};
+    all.insert(all.end(), args.begin(), args.end());
+    std::vector<char*> argv;
+    for (std::string& a : all)
+        argv.push_back(a.data());
+    argv.push_back(nullptr);
+    pid_t pid = 0;
+    REQUIRE(posix_spawn(&pid, CRACKLE_BINARY, nullptr, nullptr, argv.data(), environ) == 0);
+    return pid;
+}
+
+} // namespace
+
+TEST_SUITE("app") {
+    TEST_CASE("hardening: an output that cannot be written is refused before any work, and nothing is written") {
+        const fs::path dir = test::scratch_dir("hardening-outputs");
+        fs::create_directories(dir / "jdir");
+        const auto r =
+            run_cli({"-q", "simulate", "mud", "--set", "simulation.elements=300", "--png", (dir / "p.png").string(),
+                     "--events", (dir / "e.csv").string(), "--json", (dir / "jdir").string()});
+        CHECK(r.code == 2);
+        CHECK_MESSAGE(contains(r.err, "jdir: is a folder"), r.err);
+        CHECK_FALSE(fs::exists(dir / "p.png"));
+        CHECK_FALSE(fs::exists(dir / "e.csv"));
+        CHECK(files_in(dir).size() == 1); // jdir alone: no temporaries
+
+        // --out naming a file; a name longer than a file system allows; a path past PATH_MAX.
+        test::write_text(dir / "afile", "x");
+        const auto file_out =
+            run_cli({"-q", "bake", "mud", "--set", "simulation.elements=300", "--out", (dir / "afile").string()});
+        CHECK(file_out.code == 2);
+        CHECK_MESSAGE(contains(file_out.err, "afile: is a file"), file_out.err);
+        const std::string huge(1 << 20, 'x'); // the message shows a 1 MB name by its ends
+        const auto long_name = run_cli({"-q", "bake", "mud", "--out", (dir / huge).string()});
+        CHECK(long_name.code == 2);
+        CHECK_MESSAGE(long_name.err.size() < 600, long_name.err.size());
+        std::string deep;
+        for (int i = 0; i < 3000; ++i)
+            deep += "d/";
+        const auto long_path = run_cli({"-q", "simulate", "mud", "--json", (dir / deep / "r.json").string()});
+        CHECK(long_path.code == 2);
+        CHECK(long_path.err.size() < 600);
+        CHECK_FALSE(fs::exists(dir / "d"));
+        CHECK(files_in(dir).size() == 2); // jdir and afile
+    }
+
+    TEST_CASE("hardening: AtomicOutput places all files or none, and puts back what a failed commit replaced") {
+        const fs::path dir = test::scratch_dir("hardening-atomic");
+        test::write_text(dir / "a.txt", "old a");
+        test::write_text(dir / "sub" / "b.txt", "old b");
+        {
+            // The second file's folder vanishes before the commit: the first is put back.
+            AtomicOutput out;
+            out.write(dir / "a.txt", "new a");
+            out.write(dir / "sub" / "b.txt", "new b");
+            fs::remove_all(dir / "sub");
+            CHECK_THROWS_AS(out.commit(), InputError);
+        }
+        CHECK(test::slurp(dir / "a.txt") == "old a");
+        CHECK(files_in(dir).size() == 1);
+        {
+            // A destination that became a folder is refused before any rename.
+            AtomicOutput out;
+            out.write(dir / "a.txt", "new a");
+            out.write(dir / "c", "new c");
+            fs::create_directories(dir / "c");
+            CHECK_THROWS_AS(out.commit(), InputError);
+        }
+        CHECK(test::slurp(dir / "a.txt") == "old a");
+        CHECK(fs::is_empty(dir / "c"));
+        fs::remove(dir / "c");
+        {
+            AtomicOutput out; // never committed: nothing appears
+            out.write(dir / "d.txt", "d");
+            CHECK(files_in(dir).size() == 1);
+        }
+        CHECK(files_in(dir).size() == 1);
+        AtomicOutput out;
+        out.write(dir / "a.txt", "new a");
+        out.write(dir / "e.txt", "e");
+        out.commit();
+        CHECK(files_in(dir) == std::map<std::string, std::string>{{"a.txt", "new a"}, {"e.txt", "e"}});
+    }
+
+    TEST_CASE("hardening: a seed above 9e18 is refused in a preset and in --set (compared as integers)") {
+        const fs::path dir = test::scratch_dir("hardening-seed");
+        const auto over = run_cli({"-q", "mesh", "mud", "--set", "simulation.seed=9000000000000000001"});
+        CHECK(over.code == 2);
+        CHECK(contains(over.err, "simulation.seed"));
+        const fs::path file =
+            test::write_text(dir / "p.toml", "extends = \"mud\"\n[simulation]\nseed = 9000000000000000001\n");
+        const auto in_file = run_cli({"-q", "mesh", file.string()});
+        CHECK(in_file.code == 2);
+        CHECK_MESSAGE(contains(in_file.err, "p.toml:3"), in_file.err);
+        CHECK(run_cli({"-q", "mesh", "mud", "--set", "simulation.seed=9000000000000000000"}).code == 0);
+    }
+
+    TEST_CASE("hardening: a user's mud.toml may extend the built-in mud, and a real cycle is still refused") {
+        const fs::path dir = test::scratch_dir("hardening-extends");
+        const fs::path mud = test::write_text(dir / "mud.toml", "extends = \"mud\"\n[simulation]\nelements = 300\n");
+        const auto r = run_cli({"-q", "mesh", mud.string(), "--json", (dir / "r.json").string()});
+        CHECK_MESSAGE(r.code == 0, r.err);
+        CHECK(contains(test::slurp(dir / "r.json"), "\"faces\""));
+        test::write_text(dir / "a.toml", "extends = \"b\"\n");
+        test::write_text(dir / "b.toml", "extends = \"a\"\n");
+        const auto cycle = run_cli({"-q", "mesh", (dir / "a.toml").string()});
+        CHECK(cycle.code == 2);
+        CHECK(contains(cycle.err, "cycle"));
+    }
+
+    TEST_CASE("hardening: a report stays valid UTF-8 when the preset's path is not") {
+        const fs::path dir = test::scratch_dir("hardening-utf8");
+        const fs::path odd = test::write_text(dir / "\xff\xfe-\xc3\xa9.toml", "extends = \"mud\"\n");
+        const auto r = run_cli({"-q", "mesh", odd.string(), "--json", (dir / "r.json").string()});
+        REQUIRE_MESSAGE(r.code == 0, r.err);
+        const std::string json = test::slurp(dir / "r.json");
+        CHECK(valid_utf8(json));
+        CHECK(contains(json, "\xef\xbf\xbd\xef\xbf\xbd-\xc3\xa9")); // two U+FFFD, é kept
+    }
+
+    TEST_CASE("hardening: a user shader that does not compile is refused with exit code 2 and its file:line") {
+        if (!test::gl_context_or_skip()) return;
+        const fs::path dir = test::scratch_dir("hardening-shader");
+        fs::copy(fs::path(CRACKLE_SOURCE_DIR) / "shaders", dir / "shaders");
+        std::string ao = test::slurp(dir / "shaders" / "ao.frag");
+        const auto lines = std::count(ao.begin(), ao.end(), '\n');
+        test::write_text(dir / "shaders" / "ao.frag", ao + "garbage ;;\n");
+        const auto r = run_cli({"-q", "bake", "mud", "--size", "32", "--set", "simulation.elements=300", "--shader-dir",
+                                (dir / "shaders").string(), "--out", (dir / "out").string()});
+        CHECK(r.code == 2);
+        CHECK_MESSAGE(contains(r.err, "ao.frag:" + std::to_string(lines + 1) + ": GLSL does not compile"), r.err);
+        CHECK_FALSE(fs::exists(dir / "out"));
+    }
+
+    TEST_CASE("hardening: SIGINT and SIGKILL at any moment of a bake leave the old texture set or the new one, "
+              "whole, and no temporary file") {
+        if (!test::gl_context_or_skip()) return;
+        const fs::path dir = test::scratch_dir("hardening-interrupt");
+        const std::vector<std::string> common{
+            "-q", "bake", "mud", "--size", "512", "--set", "simulation.elements=600", "--no-cache"};
+        auto bake = [&](const fs::path& out, const std::string& seed) {
+            std::vector<std::string> args = common;
+            args.insert(args.end(), {"--seed", seed, "--out", out.string()});
+            return spawn_crackle(args);
+        };
+        auto wait_for = [](pid_t pid) {
+            int status = 0;
+            waitpid(pid, &status, 0);
+            return status;
+        };
+        // The two complete sets, and how long a whole bake takes.
+        const auto t0 = std::chrono::steady_clock::now();
+        const int full = wait_for(bake(dir / "new", "1"));
+        const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        REQUIRE(WIFEXITED(full));
+        REQUIRE(WEXITSTATUS(full) == 0);
+        REQUIRE(wait_for(bake(dir / "old", "2")) == 0);
+        const auto new_set = files_in(dir / "new"), old_set = files_in(dir / "old");
+        REQUIRE(new_set.size() == 8);
+        REQUIRE(new_set != old_set);
+
+        for (const int sig : {SIGINT, SIGKILL})
+            for (const double at : {0.2, 0.6, 0.85, 0.95, 1.0}) {
+                CAPTURE(sig);
+                CAPTURE(at);
+                const fs::path out = dir / "run";
+                fs::remove_all(out);
+                fs::copy(dir / "old", out);
+                const pid_t pid = bake(out, "1");
+                std::this_thread::sleep_for(std::chrono::duration<double>(at * seconds));
+                ::kill(pid, sig);
+                const int status = wait_for(pid);
+                if (WIFSIGNALED(status)) CHECK(WTERMSIG(status) == sig); // else it had finished
+                if (sig == SIGINT && WIFEXITED(status)) CHECK(WEXITSTATUS(status) == 0);
+                const auto left = files_in(out);
+                CHECK_MESSAGE((left == old_set || left == new_set), left.size() << " files, a mixed or partial set");
+            }
+    }
+}
