@@ -9,6 +9,7 @@
 #include "core/error.hpp"
 #include "core/log.hpp"
 #include "core/progress.hpp"
+#include "io/random_preset.hpp"
 
 #include <CLI/CLI.hpp>
 
@@ -93,6 +94,10 @@ int run(int argc, const char* const* argv, std::ostream& out, std::ostream& err)
     show->add_option("NAME", show_request.name_or_path, "Built-in preset name or path to a .toml file")->required();
     add_preset_options(show, show_request);
     presets->add_subcommand("doc", "Print the preset reference (docs/presets.md) in Markdown");
+    std::uint64_t random_seed = 0;
+    CLI::App* random = presets->add_subcommand(
+        "random", "Print a random in-range preset (every key may be drawn; scripts/soak runs hundreds)");
+    random->add_option("SEED", random_seed, "Which preset: the same seed gives the same text")->required();
 
     // === mesh
     MeshArgs mesh_args;
@@ -270,6 +275,8 @@ int run(int argc, const char* const* argv, std::ostream& out, std::ostream& err)
             code = presets_show(show_request, out);
         else if (presets->got_subcommand("doc"))
             code = presets_doc(out);
+        else if (presets->got_subcommand("random"))
+            out << io::random_preset(random_seed);
         else if (mesh->parsed())
             code = mesh_command(mesh_args, global, out);
         else if (simulate->parsed())

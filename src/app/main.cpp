@@ -1,5 +1,6 @@
 #include "app/cli.hpp"
 #include "core/atomic_file.hpp"
+#include "core/parallel.hpp"
 
 #include <iostream>
 #include <malloc.h>
@@ -14,5 +15,6 @@ int main(int argc, char** argv) {
     mallopt(M_TRIM_THRESHOLD, 1 << 30);
     // Ctrl-C, TERM and HUP remove the temporaries of files not yet in place (issue 16).
     crackle::install_interrupt_cleanup();
+    crackle::pin_blas_threads(); // direct solves sum alike on every machine (issue 16)
     return crackle::app::run(argc, argv, std::cout, std::cerr);
 }

@@ -11,6 +11,13 @@
 
 namespace crackle {
 
+/// Holds the BLAS behind CHOLMOD (OpenBLAS, when it is the system's libblas) to one thread, so
+/// that a direct solve sums in the same order on every machine: with its own thread count
+/// (OPENBLAS_NUM_THREADS, else the cores) a 600-element mud run with the direct solver made 257
+/// fragments on 2 threads and 254 on 1 (issue 16). One thread costs nothing measurable here
+/// (mass-spring bark 4.27 s either way). Called once by main and the test runner.
+void pin_blas_threads();
+
 /// Worker threads for image passes: $CRACKLE_THREADS if set (≥ 1), else the hardware's count.
 inline int worker_threads() {
     if (const char* env = std::getenv("CRACKLE_THREADS")) {

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <sstream>
 
 namespace crackle::sim {
 
@@ -107,8 +108,27 @@ void FemModel::init_element(std::size_t f) {
 
 void FemModel::build_element_stiffness(std::size_t f) {
     const wedge::Nodes q = reference_nodes_at(f, m_stiffness_s_top, m_stiffness_s_bot);
+    if (const double det = wedge::min_det_j(q); !(det > 0)) refuse_inverted(f, q, det);
     const wedge::Mat18 K = wedge::stiffness(q, element_elasticity(face_id(f)));
     m_k_top[f] = K.bottomRows<9>();
+}
+
+void FemModel::refuse_inverted(std::size_t f, const wedge::Nodes& q, double det) const {
+    const double edge = (q[1] - q[0]).norm(), height = (q[3] - q[0]).norm();
+    std::ostringstream os;
+    os << "an element of the layer turns inside out at rest (det J = " << det << ", element " << f << " at ("
+       << q[0].x() << ", " << q[0].y() << ", " << q[0].z() << "), edge " << edge << " m, height " << height << " m";
+    if (m_stiffness_builds == 0 && m_time == 0) {
+        // Before any work: the layer's shape itself cannot be meshed (a layer thicker than the
+        // curvature allows, or far thicker than its elements are wide).
+        os << ")";
+        throw InputError("material.thickness", os.str(),
+                         "use a thinner layer, a larger surface or more elements (simulation.elements)");
+    }
+    os << ", at t = " << m_time << " with shrinkage top " << m_stiffness_s_top << ", bottom " << m_stiffness_s_bot
+       << "): the top and bottom rest shapes differ too much for the wedges; lower material.shrinkage's difference "
+          "or simulation.duration";
+    throw NumericError(os.str());
 }
 
 wedge::Nodes FemModel::reference_nodes_at(std::size_t f, double s_top, double s_bot) const {

@@ -295,6 +295,8 @@ private:
     double m_stiffness_s_top = 0, m_stiffness_s_bot = 0; // shrinkage at the last stiffness build
     bool m_stiffness_dirty_for_x = true;
     std::size_t m_stiffness_builds = 0;
+    /// Throws InputError (inverted at the start: the layer's shape) or NumericError (later).
+    [[noreturn]] void refuse_inverted(std::size_t f, const wedge::Nodes& q, double det) const;
     double m_residual_floor = 0;
     double m_force_scale = 1; // threshold × thickness × edge length: a nodal force that cracks
 

@@ -33,7 +33,10 @@ GrowthField::GrowthField(const GrowthOptions& options, mesh::SurfaceKind surface
     } else {
         // Cylinder (Eq. 3.5) and sphere (§1.6): T = diag(r_u, r_u, r_v): r_u grows the circle
         // around the axis, r_v stretches along it (the sphere's "4× along Z" is r_v = 4·r_u).
-        const double a = std::fmod(std::abs(options.angle_deg), 180.0);
+        // The angle only matters when the rates differ: isogonic growth (r1 = r2) or none takes
+        // any angle (the preset check refuses a slanted one only for anisotropic growth; the
+        // soak test found isogonic growth at -339° reaching this assertion, issue 16).
+        const double a = r1 == r2 ? 0.0 : std::fmod(std::abs(options.angle_deg), 180.0);
         CRACKLE_ASSERT(a == 0.0 || a == 90.0, "cylinder and sphere growth angle must be 0 or 90 degrees");
         const bool along_axis = a == 90.0;
         m_rate_u = along_axis ? r2 : r1;

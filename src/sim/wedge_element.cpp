@@ -4,6 +4,8 @@
 
 #include <Eigen/Eigenvalues>
 
+#include <limits>
+
 namespace crackle::sim::wedge {
 
 const std::array<GaussPoint, 9>& quadrature() {
@@ -129,6 +131,13 @@ Mat18 stiffness(const Nodes& nodes, const Mat6& D) {
     }
     K.triangularView<Eigen::StrictlyLower>() = K.transpose(); // exactly symmetric, so CG sees it so
     return K;
+}
+
+double min_det_j(const Nodes& nodes) {
+    double smallest = std::numeric_limits<double>::infinity();
+    for (const GaussPoint& g : quadrature())
+        smallest = std::min(smallest, jacobian(nodes, shape_derivatives(g.xi, g.eta, g.zeta)).determinant());
+    return smallest;
 }
 
 double volume(const Nodes& nodes) {

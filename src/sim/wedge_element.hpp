@@ -95,6 +95,9 @@ Mat6 strain_rotation(const Mat3& R);
 /// Σ_g w_g det J_g: the element volume (exact for wedges with parallel triangles).
 double volume(const Nodes& nodes);
 
+/// The smallest det J over the stiffness' Gauss points: ≤ 0 when the wedge is inverted or flat.
+double min_det_j(const Nodes& nodes);
+
 /// σ = D·B·q at a point (Eq. 5.53); q = current − reference nodal positions.
 Vec6 stress(const Nodes& reference, const Mat6& D, const Vec18& q, double xi, double eta, double zeta);
 
