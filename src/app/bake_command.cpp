@@ -2,6 +2,7 @@
 #include "app/batch.hpp"
 #include "app/commands.hpp"
 #include "app/report.hpp"
+#include "app/run_budget.hpp"
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
 #include "core/log.hpp"
@@ -131,6 +132,7 @@ int export_command(const ExportArgs& args, const GlobalOptions& global, std::ost
                                                              : std::filesystem::path(args.out_path);
     check_output_path(file, "--out");
     if (!args.json_path.empty()) check_output_path(args.json_path, "--json");
+    const RunBudget budget(preset, true, "the export of " + preset.name);
     const ProgressPlan plan(progress_stages(preset, true));
     const Baked b = bake_pipeline(preset, times, args.shader_dir, {args.pattern_path, !args.no_cache});
 

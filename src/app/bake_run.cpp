@@ -3,6 +3,7 @@
 #include "app/commands.hpp"
 #include "app/options.hpp"
 #include "app/report.hpp"
+#include "app/run_budget.hpp"
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
 #include "core/timer.hpp"
@@ -64,6 +65,7 @@ Json bake_one(const io::Preset& preset, const BakeOutputs& outputs, const Output
     // the whole simulation and bake).
     check_output_path(outputs.dir / (names.base() + ".png"), "--out");
     if (!outputs.json_path.empty()) check_output_path(outputs.json_path, "--json");
+    const RunBudget budget(preset, true, "the bake of " + names.base());
     const ProgressPlan plan(progress_stages(preset, true));
     Baked b = bake_pipeline(preset, times, shader_dir, pattern);
     progress_stage("encode");

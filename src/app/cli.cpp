@@ -6,12 +6,15 @@
 #include "app/commands.hpp"
 #include "app/study.hpp"
 #include "app/watch.hpp"
+#include "core/budget.hpp"
 #include "core/error.hpp"
 #include "core/log.hpp"
 #include "core/progress.hpp"
 #include "io/random_preset.hpp"
 
 #include <CLI/CLI.hpp>
+
+#include <cstdlib>
 
 #ifndef CRACKLE_VERSION
 #define CRACKLE_VERSION "unknown"
@@ -81,6 +84,21 @@ int run(int argc, const char* const* argv, std::ostream& out, std::ostream& err)
                    "none; default $CRACKLE_PROGRESS, else auto")
         ->envname("CRACKLE_PROGRESS")
         ->check(CLI::Validator(progress_mode_check, "MODE"));
+    double max_time = 0;
+    std::string max_memory;
+    CLI::Option* max_time_option =
+        app.add_option("--max-time", max_time,
+                       "Seconds a simulation, bake or export (each variant of a batch) may run; past it the run "
+                       "stops with exit 2 and writes nothing. Default $CRACKLE_MAX_TIME, else no limit")
+            ->envname("CRACKLE_MAX_TIME")
+            ->check(CLI::Range(0.001, 1.0e9));
+    CLI::Option* max_memory_option =
+        app.add_option("--max-memory", max_memory,
+                       "Memory a run may use (512M, 8G): a run estimated to need more is refused, one that "
+                       "grows past it stops with exit 2. Default $CRACKLE_MAX_MEMORY, else 90 % of the machine's "
+                       "(or its control group's) memory")
+            ->envname("CRACKLE_MAX_MEMORY")
+            ->check(CLI::Validator(memory_size_check, "SIZE"));
     // Global flags anywhere: `crackle bake mud -q` as well as `crackle -q bake mud` (options a
     // subcommand does not know fall through to its parent; subcommands inherit the setting).
     app.fallthrough();
@@ -266,6 +284,18 @@ int run(int argc, const char* const* argv, std::ostream& out, std::ostream& err)
     set_progress_enabled(!quiet);
     set_progress_mode(parse_progress_mode(progress).value_or(ProgressMode::Auto));
     const GlobalOptions global{quiet};
+    BudgetLimits limits;
+    // Messages name the option, and the variable when it is set (CLI11 lets the option win).
+    if (max_time_option->count() > 0) {
+        limits.seconds = max_time;
+        limits.time_source = std::getenv("CRACKLE_MAX_TIME") ? "--max-time or $CRACKLE_MAX_TIME" : "--max-time";
+    }
+    if (max_memory_option->count() > 0) {
+        limits.bytes = parse_memory_size(max_memory).value_or(0);
+        limits.memory_source =
+            std::getenv("CRACKLE_MAX_MEMORY") ? "--max-memory or $CRACKLE_MAX_MEMORY" : "--max-memory";
+    }
+    set_budget_limits(limits);
 
     int code = 0;
     try {

@@ -3,6 +3,7 @@
 #include "app/pattern_store.hpp"
 #include "app/pipeline.hpp"
 #include "app/report.hpp"
+#include "app/run_budget.hpp"
 #include "app/scene.hpp"
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
@@ -152,6 +153,7 @@ int simulate_command(const SimulateArgs& args, const GlobalOptions& global, std:
                                        {args.png_path, "--png"},
                                        {args.json_path, "--json"}})
         if (!path.empty()) check_output_path(path, option);
+    const RunBudget budget(preset, false, "the simulation of " + preset.name);
     const ProgressPlan plan(progress_stages(preset, false));
     const SimulationResult r = run_simulation(preset, times);
     if (!args.no_cache) cache_store(preset, r); // a bake of the same simulation keys reuses it

@@ -10,6 +10,8 @@
 #include <cstring>
 #include <fcntl.h>
 #include <fstream>
+#include <map>
+#include <set>
 #include <sstream>
 #include <system_error>
 #include <unistd.h>
@@ -39,9 +41,10 @@ void unregister_temporary(int slot) {
     std::free(g_temporaries[static_cast<std::size_t>(slot)].exchange(nullptr));
 }
 
+std::atomic<int> g_committing{0};
+
 extern "C" void remove_temporaries_and_exit(int sig) {
-    for (std::atomic<char*>& slot : g_temporaries)
-        if (char* path = slot.load()) ::unlink(path);
+    remove_pending_temporaries();
     std::signal(sig, SIG_DFL);
     std::raise(sig);
 }
@@ -69,6 +72,15 @@ constexpr std::size_t kMaxNameBytes = 255;  // NAME_MAX of ext4, xfs, btrfs, tmp
 constexpr std::size_t kMaxPathBytes = 4096; // PATH_MAX, with its NUL
 
 } // namespace
+
+void remove_pending_temporaries() {
+    for (std::atomic<char*>& slot : g_temporaries)
+        if (char* path = slot.load()) ::unlink(path);
+}
+
+bool commit_in_progress() {
+    return g_committing.load() > 0;
+}
 
 void install_interrupt_cleanup() {
     for (int sig : {SIGINT, SIGTERM, SIGHUP})
@@ -141,15 +153,55 @@ void AtomicOutput::write(const std::filesystem::path& path, const std::vector<st
     write(path, std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
 }
 
+namespace {
+
+/// Removes "<file>.tmp<pid>" and "<file>.old<pid>" of the given files that another process left:
+/// the links a run killed inside its commit (SIGKILL, power loss) leaves beside its outputs.
+/// Only the names this commit is about to replace are touched, so another run's files are safe.
+void remove_debris_of(const std::vector<std::filesystem::path>& finals) {
+    namespace fs = std::filesystem;
+    std::map<fs::path, std::set<std::string>> by_dir;
+    for (const fs::path& f : finals)
+        by_dir[f.parent_path()].insert(f.filename().string());
+    const std::string own = std::to_string(::getpid());
+    for (const auto& [dir, names] : by_dir) {
+        std::error_code ec;
+        for (auto it = fs::directory_iterator(dir.empty() ? fs::path(".") : dir, ec);
+             !ec && it != fs::directory_iterator(); it.increment(ec)) {
+            const std::string name = it->path().filename().string();
+            const std::size_t dot = name.rfind('.');
+            if (dot == std::string::npos || dot + 4 >= name.size()) continue;
+            const std::string kind = name.substr(dot + 1, 3), pid = name.substr(dot + 4);
+            if ((kind != "tmp" && kind != "old") || pid == own
+                || pid.find_first_not_of("0123456789") != std::string::npos || !names.count(name.substr(0, dot)))
+                continue;
+            std::error_code rm;
+            fs::remove(it->path(), rm);
+        }
+    }
+}
+
+} // namespace
+
 void AtomicOutput::commit() {
     namespace fs = std::filesystem;
+    std::vector<fs::path> finals;
     for (const Pending& p : m_pending) {
         std::error_code ec;
         if (fs::is_directory(p.final_path, ec))
             throw InputError(p.final_path.string(), "is a folder, not a file",
                              "name a file here, or remove or rename the folder");
+        finals.push_back(p.final_path);
     }
+    remove_debris_of(finals);
     const HeldSignals held;
+    // A budget's hard stop waits while files are being renamed.
+    struct Committing {
+        Committing() { ++g_committing; }
+        ~Committing() { --g_committing; }
+        Committing(const Committing&) = delete;
+        Committing& operator=(const Committing&) = delete;
+    } const committing;
     // Each replaced file keeps a hard link until every rename succeeded, to be put back if one fails.
     struct Done {
         fs::path final_path, backup;

@@ -52,6 +52,14 @@ void check_output_path(const std::filesystem::path& file, const std::string& opt
 /// process with the signal's usual status (130 for Ctrl-C). Installed once by the CLI.
 void install_interrupt_cleanup();
 
+/// Removes the named temporaries of every pending AtomicOutput (async-signal-safe; for a
+/// process about to end at once, as the budget's hard stop does).
+void remove_pending_temporaries();
+
+/// True while a commit() is renaming files: a hard stop waits for it to end, so that it never
+/// leaves a mixed set.
+bool commit_in_progress();
+
 /// Reads a whole file; throws InputError naming the file when it cannot.
 std::string read_file(const std::filesystem::path& path, const std::string& what = "file");
 

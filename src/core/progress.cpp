@@ -1,5 +1,7 @@
 #include "core/progress.hpp"
 
+#include "core/budget.hpp"
+
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -340,6 +342,7 @@ Progress::~Progress() {
 }
 
 void Progress::update(double done) {
+    budget_check(); // every long loop reports here, so every long loop stops here (core/budget.hpp)
     if (!m_active) return;
     Reporter& r = reporter();
     if (m_total > 0) r.set_sub(done / m_total);

@@ -2,6 +2,7 @@
 /// (one break per relaxation, §5.6.2; local relaxation, §5.8; the next break time in closed form).
 #include "fracture/graph_fem/graph_fem.hpp"
 
+#include "core/budget.hpp"
 #include "core/progress.hpp"
 #include "core/timer.hpp"
 #include "fracture/toolkit/fem_loop.hpp"
@@ -168,6 +169,7 @@ CrackPattern run_graph_fem(sim::FemModel& model, const FractureOptions& options,
     auto propagate = [&](std::size_t from) {
         std::vector<std::size_t> front = {from};
         while (!front.empty()) {
+            budget_check(); // a cascade can run thousands of breaks in one time step
             const std::size_t e = front.back();
             front.pop_back();
             const EdgeGraph::Edge& edge = graph.edge(e);

@@ -1,4 +1,5 @@
 /// @file MassSpringModel's equilibrium: stiffness factor and downdates, Newton relax, anchor slides, ratios (§4.1).
+#include "core/budget.hpp"
 #include "core/error.hpp"
 #include "fracture/mass_spring/mass_spring_internal.hpp"
 
@@ -198,6 +199,7 @@ void MassSpringModel::relax(MassSpringStats* stats) {
         double e0 = energy(m_x, m_time);
         std::vector<Vec3> trial(m_x.size());
         for (;; ++it) {
+            budget_check(); // a layered lattice's Newton step can take seconds (issue 16)
             gradient(m_x, m_time, g);
             residual = 0;
             for (Eigen::Index i = 0; i < g.size(); i += 3)

@@ -284,6 +284,16 @@ TEST_SUITE("app") {
                 for (const auto& [name, bytes] : old_set)
                     CHECK(left.count(name) == 1);
             }
+        // The next bake of the same set removes what a commit killed midway left (its links,
+        // here planted with a pid that is not this run's) and leaves exactly the new set.
+        const fs::path out = dir / "run";
+        fs::remove_all(out);
+        fs::copy(dir / "old", out);
+        const std::string first_map = new_set.begin()->first;
+        test::write_text(out / (first_map + ".tmp4000001"), "debris");
+        fs::create_hard_link(out / first_map, out / (first_map + ".old4000001"));
+        REQUIRE(wait_for(bake(out, "1")) == 0);
+        CHECK(files_in(out) == new_set);
     }
 
     TEST_CASE("hardening: the same maps with 1 or 2 threads in every pool, and from a fresh or a warm pattern cache") {

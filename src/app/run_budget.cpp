@@ -1,0 +1,88 @@
+#include "app/run_budget.hpp"
+
+#include "app/pipeline.hpp"
+#include "core/log.hpp"
+#include "io/resolution.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+namespace crackle::app {
+
+namespace {
+
+constexpr double kMiB = 1024.0 * 1024.0;
+
+/// Peak bytes per initial element. Measured with `/usr/bin/time -f %M crackle -q simulate mud
+/// --no-cache --set simulation.elements=N --set simulation.duration=0.3` (2026-12-03): 74 MB at
+/// 2000 elements, 197 MB at 32000 (cg), 223 MB with the direct solver, 684 MB at 128000 direct;
+/// mass-spring 201 MB at 32000 with one layer and 1256 MB with four (the lattice's direct
+/// factor fills in like layers^1.5). Cracks add elements as a run goes (fem-split), hence the
+/// margin.
+double bytes_per_element(const io::Preset& preset) {
+    const std::string& method = preset.text("simulation.method");
+    if (method == "mass-spring") {
+        const double layers = static_cast<double>(std::max<std::int64_t>(1, preset.integer("simulation.layers")));
+        return 6.0e3 * std::pow(layers, 1.6);
+    }
+    return preset.text("simulation.solver") == "direct" ? 7.5e3 : 6.5e3;
+}
+
+} // namespace
+
+RunEstimate estimate_run(const io::Preset& preset, bool bake) {
+    RunEstimate e;
+    for (const ProgressStage& stage : progress_stages(preset, bake))
+        e.seconds += stage.weight;
+    const double elements = static_cast<double>(io::element_count(preset).elements);
+    const double simulation = elements * bytes_per_element(preset);
+    double maps = 0;
+    if (bake) {
+        // 2235 MB for a 4096² mud bake and 309 MB at 1024² (`/usr/bin/time -f %M crackle -q bake
+        // mud --size N`): about 123 bytes a pixel for the maps, their 16-bit copies, the GL targets
+        // and the encoder.
+        const double size = static_cast<double>(preset.integer("bake.size"));
+        const double rows = static_cast<double>(preset.integer("bake.size_v"));
+        maps = 140.0 * size * (rows > 0 ? rows : size);
+    }
+    e.bytes = 64 * kMiB + simulation + maps;
+    e.memory_key = maps > simulation ? "bake.size" : "simulation.elements";
+    return e;
+}
+
+RunBudget::RunBudget(const io::Preset& preset, bool bake, const std::string& what)
+    : m_estimate(estimate_run(preset, bake)) {
+    const BudgetLimits& limits = budget_limits();
+    const double budget = static_cast<double>(memory_budget_bytes());
+    const std::string need = format_bytes(m_estimate.bytes);
+    const std::string where = preset.entry(m_estimate.memory_key).source.file.empty()
+                                  ? m_estimate.memory_key + " (" + preset.name + ")"
+                                  : preset.entry(m_estimate.memory_key).source.text() + ": " + m_estimate.memory_key;
+    if (m_estimate.bytes > budget) {
+        const std::string of =
+            limits.memory_source.empty() ? " (90 % of this machine's memory)" : ", set by " + limits.memory_source;
+        throw InputError(
+            where,
+            what + " would need about " + need + " of memory, more than its budget of " + format_bytes(budget) + of,
+            "lower " + m_estimate.memory_key
+                + (limits.memory_source.empty() ? "" : ", or raise " + limits.memory_source) + "; nothing was started");
+    }
+    const std::string time = format_seconds(m_estimate.seconds);
+    if (limits.seconds > 0 && m_estimate.seconds > 3 * limits.seconds)
+        log::warn(what, " may take about ", time, ", more than ", limits.time_source, " ",
+                  format_seconds(limits.seconds),
+                  " allows; it will stop there with nothing written (a rough "
+                  "estimate)");
+    else if (m_estimate.seconds > 600 || m_estimate.bytes > 0.5 * budget)
+        log::warn(what, " may take about ", time, " and ", need,
+                  " of memory (a rough estimate; --max-time "
+                  "and --max-memory bound a run)");
+    char line[160];
+    std::snprintf(line, sizeof line, "estimate: %.3g s, %.0f MiB (%s)", m_estimate.seconds, m_estimate.bytes / kMiB,
+                  m_estimate.memory_key.c_str());
+    log::info(line); // scripts/soak compares these with what the run took
+    m_scope.emplace(what);
+}
+
+} // namespace crackle::app
