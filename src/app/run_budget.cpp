@@ -46,7 +46,10 @@ RunEstimate estimate_run(const io::Preset& preset, bool bake) {
         const double rows = static_cast<double>(preset.integer("bake.size_v"));
         maps = 140.0 * size * (rows > 0 ? rows : size);
     }
-    e.bytes = 64 * kMiB + simulation + maps;
+    // The process itself: 64 MiB (`crackle simulate` of 2000 elements peaks at 73 MiB), and 48 MiB
+    // more for a bake's GL driver (a 64² bake of a few hundred elements peaks at 105–126 MiB;
+    // scripts/soak over 500 random presets, docs/reliability.md).
+    e.bytes = (bake ? 112 : 64) * kMiB + simulation + maps;
     e.memory_key = maps > simulation ? "bake.size" : "simulation.elements";
     return e;
 }

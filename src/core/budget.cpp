@@ -9,6 +9,7 @@
 #include <condition_variable>
 #include <cstdio>
 #include <fstream>
+#include <limits>
 #include <mutex>
 #include <sstream>
 #include <thread>
@@ -152,7 +153,9 @@ std::uint64_t machine_memory_bytes() {
 
 std::uint64_t memory_budget_bytes() {
     if (g_limits.bytes > 0) return g_limits.bytes;
-    return static_cast<std::uint64_t>(0.9 * static_cast<double>(machine_memory_bytes()));
+    const std::uint64_t machine = machine_memory_bytes();
+    if (machine == 0) return std::numeric_limits<std::uint64_t>::max(); // unknown: no default budget
+    return static_cast<std::uint64_t>(0.9 * static_cast<double>(machine));
 }
 
 std::uint64_t resident_bytes() {

@@ -47,7 +47,8 @@ const BudgetLimits& budget_limits();
 std::uint64_t machine_memory_bytes();
 
 /// The memory budget in force: --max-memory, else 90 % of the machine's memory (the rest is
-/// the system's; a run stopped there exits 2 instead of being killed by the kernel).
+/// the system's; a run stopped there exits 2 instead of being killed by the kernel); no limit
+/// when the machine's memory cannot be read.
 std::uint64_t memory_budget_bytes();
 
 /// Resident memory of this process now, in bytes (0 if unknown).
