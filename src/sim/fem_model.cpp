@@ -1,4 +1,5 @@
 /// @file FemModel construction, material and rest positions, node positions (Federl 2002, §5.3, §5.9).
+#include "core/budget.hpp"
 #include "core/error.hpp"
 #include "sim/fem_model_internal.hpp"
 
@@ -31,10 +32,13 @@ FemModel::FemModel(mesh::SurfaceMesh mesh, const mesh::Surface& surface, const G
     m_material.resize(nf);
     m_broken.assign(nf, 0);
     m_k_top.resize(nf);
-    for (std::size_t f = 0; f < nf; ++f)
+    for (std::size_t f = 0; f < nf; ++f) {
+        if (f % 1024 == 0) budget_check(); // a big layer takes seconds to build (--max-time)
         init_element(f);
+    }
     rebuild_incidence();
     assemble();
+    budget_check();
     m_solver->update(m_K, true);
     double thr = 0, h = 0;
     for (const ElementMaterial& mat : m_material)

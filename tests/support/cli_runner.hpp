@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <initializer_list>
 #include <string>
+#include <sys/types.h>
 #include <vector>
 
 namespace crackle::test {
@@ -15,6 +16,16 @@ struct CliResult {
 };
 
 CliResult run_cli(const std::vector<std::string>& args);
+
+/// Starts the crackle executable in a process of its own with `extra_env` ("NAME=value") added,
+/// its stdout and stderr going to `out_file` and `err_file` when given; returns its pid.
+pid_t spawn_crackle(const std::vector<std::string>& args, const std::vector<std::string>& extra_env = {},
+                    const std::filesystem::path& out_file = {}, const std::filesystem::path& err_file = {});
+
+/// Runs the crackle executable in a process of its own and waits: for runs that may end the
+/// process (a budget's hard stop), which run_cli would share with the test runner. `code` is the
+/// exit status, or 128 + the signal.
+CliResult run_crackle(const std::vector<std::string>& args, const std::vector<std::string>& extra_env = {});
 
 /// A fresh, empty folder under the build tree's test-output/ (or the system temp folder).
 std::filesystem::path scratch_dir(const std::string& name);

@@ -12,15 +12,13 @@
 #include <chrono>
 #include <csignal>
 #include <map>
-#include <spawn.h>
 #include <sys/wait.h>
 #include <thread>
-
-extern char** environ;
 
 using namespace crackle;
 using test::contains;
 using test::run_cli;
+using test::spawn_crackle;
 namespace fs = std::filesystem;
 
 namespace {
@@ -45,32 +43,6 @@ bool valid_utf8(const std::string& s) {
         i += n;
     }
     return true;
-}
-
-/// Starts the crackle executable with `extra_env` ("NAME=value") added; returns its pid.
-pid_t spawn_crackle(const std::vector<std::string>& args, const std::vector<std::string>& extra_env = {}) {
-    std::vector<std::string> all{CRACKLE_BINARY};
-    all.insert(all.end(), args.begin(), args.end());
-    std::vector<char*> argv;
-    for (std::string& a : all)
-        argv.push_back(a.data());
-    argv.push_back(nullptr);
-    std::vector<std::string> env_strings(extra_env);
-    for (char** e = environ; *e; ++e) {
-        const std::string entry = *e;
-        const std::string name = entry.substr(0, entry.find('='));
-        const bool replaced = std::any_of(extra_env.begin(), extra_env.end(), [&](const std::string& x) {
-            return x.compare(0, name.size() + 1, name + "=") == 0;
-        });
-        if (!replaced) env_strings.push_back(entry);
-    }
-    std::vector<char*> envp;
-    for (std::string& e : env_strings)
-        envp.push_back(e.data());
-    envp.push_back(nullptr);
-    pid_t pid = 0;
-    REQUIRE(posix_spawn(&pid, CRACKLE_BINARY, nullptr, nullptr, argv.data(), envp.data()) == 0);
-    return pid;
 }
 
 } // namespace
