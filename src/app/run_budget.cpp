@@ -18,7 +18,7 @@ constexpr double kMiB = 1024.0 * 1024.0;
 /// --no-cache --set simulation.elements=N --set simulation.duration=0.3` (2026-12-03): 74 MB at
 /// 2000 elements, 197 MB at 32000 (cg), 223 MB with the direct solver, 684 MB at 128000 direct;
 /// mass-spring 201 MB at 32000 with one layer and 1256 MB with four (the lattice's direct
-/// factor fills in like layers^1.5). Cracks add elements as a run goes (fem-split), hence the
+/// factor fills in like layers^1.6). Cracks add elements as a run goes (fem-split), hence the
 /// margin.
 double bytes_per_element(const io::Preset& preset) {
     const std::string& method = preset.text("simulation.method");

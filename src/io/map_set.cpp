@@ -94,6 +94,30 @@ std::vector<std::uint8_t> encode_one(const render::TextureSet& s, const MapKind&
     return encode_png_rgb8(w, h, kind.channels, samples<std::uint8_t>(s, kind.name, kind.channels));
 }
 
+/// No map holds a number that is not finite (docs/reliability.md): a NaN would become an
+/// arbitrary pixel in a PNG (lround of NaN) and a NaN in the EXR. One is the bake's numeric
+/// failure (exit 3), named by channel and pixel, before anything is encoded.
+void check_finite(const render::TextureSet& s) {
+    const std::pair<const char*, const std::vector<float>*> channels[] = {{"height", &s.height},
+                                                                          {"normal", &s.normal},
+                                                                          {"ambient occlusion", &s.ao},
+                                                                          {"roughness", &s.roughness},
+                                                                          {"crack mask", &s.mask}};
+    for (const auto& [name, values] : channels) {
+        const auto bad = std::find_if(values->begin(), values->end(), [](float v) { return !std::isfinite(v); });
+        if (bad == values->end()) continue;
+        const std::size_t per_pixel = std::max<std::size_t>(1, values->size() / std::max<std::size_t>(1, s.pixels()));
+        const std::size_t i = static_cast<std::size_t>(bad - values->begin()) / per_pixel;
+        const std::size_t w = static_cast<std::size_t>(std::max(1, s.width));
+        throw NumericError("the baked " + std::string(name) + " holds "
+                           + std::string(std::isnan(*bad) ? "NaN"
+                                         : *bad > 0       ? "+inf"
+                                                          : "-inf")
+                           + " at pixel (" + std::to_string(i % w) + ", " + std::to_string(i / w) + ") of "
+                           + std::to_string(s.width) + "×" + std::to_string(s.height_px) + "; no map was written");
+    }
+}
+
 std::string names_text() {
     std::string t;
     for (const MapKind& k : KINDS)
@@ -163,6 +187,7 @@ std::vector<MapRequest> parse_map_requests(const std::string& maps, const std::s
 std::vector<EncodedMap> encode_maps(const render::TextureSet& s, const std::vector<MapRequest>& maps, bool exr,
                                     double* seconds) {
     Timer timer;
+    check_finite(s);
     // Each map on its own thread: zlib is the bottleneck and the maps are independent.
     std::vector<std::future<std::vector<std::uint8_t>>> futures;
     for (const MapRequest& m : maps) {

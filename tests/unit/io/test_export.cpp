@@ -1,8 +1,12 @@
+#include "core/error.hpp"
 #include "io/mesh_export.hpp"
 #include "io/png.hpp"
+#include "io/texture_set.hpp"
 #include "support/export_fixtures.hpp"
 
 #include <doctest/doctest.h>
+
+#include <limits>
 
 using namespace crackle;
 namespace fs = std::filesystem;
@@ -24,6 +28,26 @@ io::MaterialMaps tiny_maps(const std::string& base) {
     m.normal_uri = base + "_NormalGL.png";
     m.orm_uri = base + "_ORM.png";
     return m;
+}
+
+/// 16 × 8 pixels (2:1, like the sphere's equirectangular maps) with a height ramp.
+render::TextureSet ramp_set() {
+    render::TextureSet set;
+    set.width = 16;
+    set.height_px = 8;
+    set.height_scale = 0.02;
+    const std::size_t px = set.pixels();
+    for (std::size_t i = 0; i < px; ++i)
+        set.height.push_back(static_cast<float>(0.02 * double(i * 37 % 256) / 255.0));
+    set.normal.assign(3 * px, 0.0f);
+    for (std::size_t i = 0; i < px; ++i)
+        set.normal[3 * i + 2] = 1.0f;
+    set.color.assign(3 * px, 100);
+    set.ao.assign(px, 1.0f);
+    set.roughness.assign(px, 0.5f);
+    set.mask.assign(px, 0.0f);
+    set.id.assign(3 * px, 7);
+    return set;
 }
 
 void write_bytes(const fs::path& p, const std::vector<std::uint8_t>& b) {
@@ -91,21 +115,8 @@ TEST_SUITE("io") {
     }
 
     TEST_CASE("export: 16-bit displacement PNGs and float EXRs read back exactly, non-square too") {
-        render::TextureSet set;
-        set.width = 16;
-        set.height_px = 8; // 2:1, like the sphere's equirectangular maps
-        set.height_scale = 0.02;
-        const std::size_t px = 128;
-        for (std::size_t i = 0; i < px; ++i)
-            set.height.push_back(static_cast<float>(0.02 * double(i * 37 % 256) / 255.0));
-        set.normal.assign(3 * px, 0.0f);
-        for (std::size_t i = 0; i < px; ++i)
-            set.normal[3 * i + 2] = 1.0f;
-        set.color.assign(3 * px, 100);
-        set.ao.assign(px, 1.0f);
-        set.roughness.assign(px, 0.5f);
-        set.mask.assign(px, 0.0f);
-        set.id.assign(3 * px, 7);
+        const render::TextureSet set = ramp_set();
+        const std::size_t px = set.pixels();
         const auto maps = io::encode_texture_set(set, true);
         bool png = false, exr = false;
         for (const auto& m : maps) {
@@ -136,5 +147,35 @@ TEST_SUITE("io") {
         for (const char* s : {"Color.png", "NormalGL.png", "NormalDX.png", "Displacement.png", "AmbientOcclusion.png",
                               "Roughness.png", "Mask.png", "ID.png", "Displacement.exr"})
             CHECK(std::find(suffixes.begin(), suffixes.end(), s) != suffixes.end());
+    }
+
+    TEST_CASE("export: a texture set holding NaN or an infinity is a numeric failure naming the map and pixel") {
+        const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
+        struct Case {
+            std::vector<float> render::TextureSet::*channel;
+            std::size_t index;
+            float value;
+            const char* expect;
+        };
+        // Pixel 37 of a 16-wide map is (5, 2); the normal has three values per pixel.
+        for (const Case& c : {Case{&render::TextureSet::height, 37, nan, "height holds NaN at pixel (5, 2)"},
+                              Case{&render::TextureSet::normal, 3 * 37 + 1, -inf, "normal holds -inf at pixel (5, 2)"},
+                              Case{&render::TextureSet::ao, 127, inf, "occlusion holds +inf at pixel (15, 7)"},
+                              Case{&render::TextureSet::roughness, 0, nan, "roughness holds NaN at pixel (0, 0)"},
+                              Case{&render::TextureSet::mask, 16, nan, "mask holds NaN at pixel (0, 1)"}}) {
+            render::TextureSet set = ramp_set();
+            REQUIRE_NOTHROW(io::encode_texture_set(set, true));
+            (set.*c.channel)[c.index] = c.value;
+            CAPTURE(c.expect);
+            bool thrown = false;
+            try {
+                (void)io::encode_texture_set(set, true);
+            } catch (const NumericError& e) {
+                thrown = true;
+                CHECK(std::string(e.what()).find(c.expect) != std::string::npos);
+            }
+            CHECK(thrown);
+            CHECK_THROWS_AS(io::encode_map(set, "NormalGL"), NumericError);
+        }
     }
 }
