@@ -1,6 +1,6 @@
 /// Regression tests for issue 16's findings: outputs checked before any work and placed all or
 /// nothing, bounded messages, integer ranges, `extends` of a built-in from a same-named file,
-/// reports that stay UTF-8, user shaders refused with file:line, and interrupted bakes.
+/// reports that stay UTF-8, user shaders refused with file:line, and interrupted bakes and exports.
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
 #include "support/cli_runner.hpp"
@@ -43,6 +43,79 @@ bool valid_utf8(const std::string& s) {
         i += n;
     }
     return true;
+}
+
+/// Runs crackle with `common` plus `--seed` and `--out` (the folder, or `file` inside it),
+/// interrupted by SIGINT and by SIGKILL at each fraction in `at` of a whole run's time, over an
+/// earlier output of another seed, and checks what is left (docs/reliability.md, "Outputs").
+void check_interrupted(const fs::path& dir, const std::vector<std::string>& common, const std::string& file,
+                       std::size_t files, const std::vector<double>& at_fractions) {
+    auto run = [&](const fs::path& out, const std::string& seed) {
+        std::vector<std::string> args = common;
+        args.insert(args.end(), {"--seed", seed, "--out", (file.empty() ? out : out / file).string()});
+        return spawn_crackle(args);
+    };
+    auto wait_for = [](pid_t pid) {
+        int status = 0;
+        waitpid(pid, &status, 0);
+        return status;
+    };
+    // The two complete sets, and how long a whole run takes.
+    const auto t0 = std::chrono::steady_clock::now();
+    const int full = wait_for(run(dir / "new", "1"));
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    REQUIRE(WIFEXITED(full));
+    REQUIRE(WEXITSTATUS(full) == 0);
+    REQUIRE(wait_for(run(dir / "old", "2")) == 0);
+    const auto new_set = files_in(dir / "new"), old_set = files_in(dir / "old");
+    REQUIRE(new_set.size() == files);
+    REQUIRE(new_set != old_set);
+
+    for (const int sig : {SIGINT, SIGKILL})
+        for (const double at : at_fractions) {
+            CAPTURE(sig);
+            CAPTURE(at);
+            const fs::path out = dir / "run";
+            fs::remove_all(out);
+            fs::copy(dir / "old", out);
+            const pid_t pid = run(out, "1");
+            std::this_thread::sleep_for(std::chrono::duration<double>(at * seconds));
+            ::kill(pid, sig);
+            const int status = wait_for(pid);
+            if (WIFSIGNALED(status)) CHECK(WTERMSIG(status) == sig); // else it had finished
+            if (sig == SIGINT && WIFEXITED(status)) CHECK(WEXITSTATUS(status) == 0);
+            const auto left = files_in(out);
+            if (sig == SIGINT) {
+                // Held during the commit: never a mix.
+                CHECK_MESSAGE((left == old_set || left == new_set), left.size() << " files, a mixed set");
+                continue;
+            }
+            // SIGKILL cannot be held: inside the commit's renames (well under a millisecond,
+            // longer if the process is descheduled there) it may leave a mix of whole old and
+            // whole new files and this run's "<file>.tmp<pid>"/".old<pid>" links
+            // (docs/reliability.md). Never a partial file, nor one from elsewhere.
+            const std::string suffix = std::to_string(pid);
+            for (const auto& [name, bytes] : left) {
+                CAPTURE(name);
+                const auto old_file = old_set.find(name), new_file = new_set.find(name);
+                if (old_file != old_set.end())
+                    CHECK((bytes == old_file->second || bytes == new_file->second));
+                else
+                    CHECK((name.ends_with(".tmp" + suffix) || name.ends_with(".old" + suffix)));
+            }
+            for (const auto& [name, bytes] : old_set)
+                CHECK(left.count(name) == 1);
+        }
+    // The next run of the same set removes what a commit killed midway left (its links, here
+    // planted with a pid that is not this run's) and leaves exactly the new set.
+    const fs::path out = dir / "run";
+    fs::remove_all(out);
+    fs::copy(dir / "old", out);
+    const std::string first = new_set.begin()->first;
+    test::write_text(out / (first + ".tmp4000001"), "debris");
+    fs::create_hard_link(out / first, out / (first + ".old4000001"));
+    REQUIRE(wait_for(run(out, "1")) == 0);
+    CHECK(files_in(out) == new_set);
 }
 
 } // namespace
@@ -197,75 +270,18 @@ TEST_SUITE("app") {
     TEST_CASE("hardening: SIGINT at any moment of a bake leaves the old texture set or the new one, and SIGKILL "
               "never a partial file") {
         if (!test::gl_context_or_skip()) return;
-        const fs::path dir = test::scratch_dir("hardening-interrupt");
-        const std::vector<std::string> common{
-            "-q", "bake", "mud", "--size", "512", "--set", "simulation.elements=600", "--no-cache"};
-        auto bake = [&](const fs::path& out, const std::string& seed) {
-            std::vector<std::string> args = common;
-            args.insert(args.end(), {"--seed", seed, "--out", out.string()});
-            return spawn_crackle(args);
-        };
-        auto wait_for = [](pid_t pid) {
-            int status = 0;
-            waitpid(pid, &status, 0);
-            return status;
-        };
-        // The two complete sets, and how long a whole bake takes.
-        const auto t0 = std::chrono::steady_clock::now();
-        const int full = wait_for(bake(dir / "new", "1"));
-        const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-        REQUIRE(WIFEXITED(full));
-        REQUIRE(WEXITSTATUS(full) == 0);
-        REQUIRE(wait_for(bake(dir / "old", "2")) == 0);
-        const auto new_set = files_in(dir / "new"), old_set = files_in(dir / "old");
-        REQUIRE(new_set.size() == 8);
-        REQUIRE(new_set != old_set);
+        check_interrupted(test::scratch_dir("hardening-interrupt"),
+                          {"-q", "bake", "mud", "--size", "512", "--set", "simulation.elements=600", "--no-cache"}, "",
+                          8, {0.2, 0.6, 0.85, 0.95, 1.0});
+    }
 
-        for (const int sig : {SIGINT, SIGKILL})
-            for (const double at : {0.2, 0.6, 0.85, 0.95, 1.0}) {
-                CAPTURE(sig);
-                CAPTURE(at);
-                const fs::path out = dir / "run";
-                fs::remove_all(out);
-                fs::copy(dir / "old", out);
-                const pid_t pid = bake(out, "1");
-                std::this_thread::sleep_for(std::chrono::duration<double>(at * seconds));
-                ::kill(pid, sig);
-                const int status = wait_for(pid);
-                if (WIFSIGNALED(status)) CHECK(WTERMSIG(status) == sig); // else it had finished
-                if (sig == SIGINT && WIFEXITED(status)) CHECK(WEXITSTATUS(status) == 0);
-                const auto left = files_in(out);
-                if (sig == SIGINT) {
-                    // Held during the commit: never a mix.
-                    CHECK_MESSAGE((left == old_set || left == new_set), left.size() << " files, a mixed set");
-                    continue;
-                }
-                // SIGKILL cannot be held: inside the commit's renames (well under a millisecond,
-                // longer if the process is descheduled there) it may leave a mix of whole old
-                // and whole new files and this run's "<map>.tmp<pid>"/".old<pid>" links
-                // (docs/reliability.md). Never a partial file, nor one from elsewhere.
-                const std::string suffix = std::to_string(pid);
-                for (const auto& [name, bytes] : left) {
-                    CAPTURE(name);
-                    const auto old_file = old_set.find(name), new_file = new_set.find(name);
-                    if (old_file != old_set.end())
-                        CHECK((bytes == old_file->second || bytes == new_file->second));
-                    else
-                        CHECK((name.ends_with(".tmp" + suffix) || name.ends_with(".old" + suffix)));
-                }
-                for (const auto& [name, bytes] : old_set)
-                    CHECK(left.count(name) == 1);
-            }
-        // The next bake of the same set removes what a commit killed midway left (its links,
-        // here planted with a pid that is not this run's) and leaves exactly the new set.
-        const fs::path out = dir / "run";
-        fs::remove_all(out);
-        fs::copy(dir / "old", out);
-        const std::string first_map = new_set.begin()->first;
-        test::write_text(out / (first_map + ".tmp4000001"), "debris");
-        fs::create_hard_link(out / first_map, out / (first_map + ".old4000001"));
-        REQUIRE(wait_for(bake(out, "1")) == 0);
-        CHECK(files_in(out) == new_set);
+    TEST_CASE("hardening: SIGINT at any moment of a glTF export leaves the old mesh and maps or the new ones, and "
+              "SIGKILL never a partial file") {
+        if (!test::gl_context_or_skip()) return;
+        check_interrupted(test::scratch_dir("hardening-interrupt-export"),
+                          {"-q", "export", "mud", "--format", "gltf", "--size", "256", "--set",
+                           "simulation.elements=600", "--no-cache"},
+                          "mud.gltf", 5, {0.5, 0.9, 0.97});
     }
 
     TEST_CASE("hardening: the same maps with 1 or 2 threads in every pool, and from a fresh or a warm pattern cache") {
