@@ -8,6 +8,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <random>
 
 using namespace crackle;
 
@@ -20,6 +21,41 @@ TEST_SUITE("core") {
         CHECK(closest_match("material.thicknes", keys) == "material.thickness");
         CHECK(closest_match("completely.different", keys).empty());
         CHECK(did_you_mean("surface.sise", keys) == " (did you mean 'surface.size'?)");
+    }
+
+    TEST_CASE("strings: the bounded did-you-mean search picks what exact distances pick") {
+        // The reference: every distance exact, the first candidate at the smallest one, accepted
+        // within a third of the word's length (at least 2).
+        auto reference = [](const std::string& word, const std::vector<std::string>& candidates) {
+            std::string best;
+            std::size_t best_distance = std::string::npos;
+            for (const auto& c : candidates)
+                if (const std::size_t d = edit_distance(word, c); d < best_distance) {
+                    best_distance = d;
+                    best = c;
+                }
+            return best_distance <= std::max<std::size_t>(2, word.size() / 3) ? best : std::string();
+        };
+        std::mt19937_64 rng(16);
+        auto random_word = [&](std::size_t max_length) {
+            std::string w(rng() % (max_length + 1), 'a');
+            for (char& c : w)
+                c = "abc.d"[rng() % 5]; // a small alphabet: many near and equal distances
+            return w;
+        };
+        std::size_t matched = 0;
+        for (int trial = 0; trial < 2000; ++trial) {
+            std::vector<std::string> candidates;
+            for (int k = 0; k < 12; ++k)
+                candidates.push_back(random_word(14));
+            const std::string word = random_word(14);
+            const std::string expected = reference(word, candidates);
+            CAPTURE(word);
+            REQUIRE(closest_match(word, candidates) == expected);
+            matched += !expected.empty();
+        }
+        CHECK(matched > 200); // the comparison covered accepted matches, not only refusals
+        CHECK(edit_distance("material.thickness", "material.toughness") == 4);
     }
 
     TEST_CASE("json: ordered objects and escaping and non-finite numbers") {
