@@ -63,6 +63,7 @@ sim::FemOptions fem_options(const io::Preset& preset) {
     o.solver = preset.text("simulation.solver") == "direct" ? sim::SolverKind::Direct : sim::SolverKind::Cg;
     o.tolerance = preset.number("simulation.solver_tolerance");
     o.max_iterations = static_cast<int>(preset.integer("simulation.solver_max_iterations"));
+    o.thickness_order = static_cast<int>(preset.integer("simulation.thickness_order"));
     return o;
 }
 

@@ -33,30 +33,36 @@ void FemModel::rebuild_incidence() {
 // === Assembly (§5.4, Alg. 4, with the bottom DOFs eliminated)
 
 SpMatR FemModel::assemble_from_scratch() const {
-    const auto n = static_cast<Eigen::Index>(3 * m_mesh.num_vertices());
+    const auto n = static_cast<Eigen::Index>(3 * slot(m_mesh.num_vertices()));
+    const auto p2 = static_cast<std::size_t>(m_order * m_order);
     std::vector<Eigen::Triplet<double>> triplets;
-    triplets.reserve(81 * m_mesh.num_faces() + 3 * m_mesh.num_vertices());
+    triplets.reserve(81 * p2 * m_mesh.num_faces() + 3 * slot(m_mesh.num_vertices()));
     for (std::size_t f = 0; f < m_mesh.num_faces(); ++f) {
         const mesh::Face& face = m_mesh.faces[face_id(f)];
         const bool on = m_alive[f] != 0;
+        const auto K = k_free(f);
         for (std::size_t a = 0; a < 3; ++a)
-            for (std::size_t b = 0; b < 3; ++b) {
-                const auto ra = static_cast<Eigen::Index>(3 * ix(face.v[a]));
-                const auto cb = static_cast<Eigen::Index>(3 * ix(face.v[b]));
-                for (int i = 0; i < 3; ++i)
-                    for (int j = 0; j < 3; ++j)
-                        // Dead elements keep their (zero) entries so the pattern never shrinks.
-                        triplets.emplace_back(ra + i, cb + j,
-                                              on ? m_k_top[f](static_cast<Eigen::Index>(3 * a) + i,
-                                                              9 + static_cast<Eigen::Index>(3 * b) + j)
-                                                 : 0.0);
-            }
+            for (int ja = 0; ja < m_order; ++ja)
+                for (std::size_t b = 0; b < 3; ++b)
+                    for (int jb = 0; jb < m_order; ++jb) {
+                        const auto ra = static_cast<Eigen::Index>(3 * slot(ix(face.v[a]), ja));
+                        const auto cb = static_cast<Eigen::Index>(3 * slot(ix(face.v[b]), jb));
+                        const auto ka = 9 * ja + static_cast<Eigen::Index>(3 * a);
+                        const auto kb = 9 + 9 * jb + static_cast<Eigen::Index>(3 * b);
+                        for (int i = 0; i < 3; ++i)
+                            for (int j = 0; j < 3; ++j)
+                                // Dead elements keep their (zero) entries so the pattern never shrinks.
+                                triplets.emplace_back(ra + i, cb + j, on ? K(ka + i, kb + j) : 0.0);
+                    }
     }
     // A top node with no element left keeps its place: identity rows, zero right-hand side.
     for (std::size_t v = 0; v < m_mesh.num_vertices(); ++v)
         if (m_alive_degree[v] == 0)
-            for (int i = 0; i < 3; ++i)
-                triplets.emplace_back(static_cast<Eigen::Index>(3 * v) + i, static_cast<Eigen::Index>(3 * v) + i, 1.0);
+            for (int j = 0; j < m_order; ++j)
+                for (int i = 0; i < 3; ++i) {
+                    const auto d = static_cast<Eigen::Index>(3 * slot(v, j)) + i;
+                    triplets.emplace_back(d, d, 1.0);
+                }
     SpMatR K(n, n);
     K.setFromTriplets(triplets.begin(), triplets.end());
     return K;
@@ -65,7 +71,7 @@ SpMatR FemModel::assemble_from_scratch() const {
 void FemModel::assemble() {
     m_K = assemble_from_scratch();
     // Room for three more neighbours per row: splitting and cutting add entries locally.
-    m_K.reserve(Eigen::VectorXi::Constant(m_K.outerSize(), 27));
+    m_K.reserve(Eigen::VectorXi::Constant(m_K.outerSize(), 27 * m_order));
     m_stiffness_dirty_for_x = true;
     m_residual_floor = residual_floor(m_K, m_mesh);
     // Below ~60k unknowns a parallel mat-vec costs more in thread hand-offs than it saves
@@ -112,40 +118,43 @@ void FemModel::refresh_incidence(const std::vector<FaceId>& faces, const std::ve
 void FemModel::reassemble_around(const std::vector<std::size_t>& vertices) {
     // The rows (and, by symmetry, columns) of these vertices are rebuilt from their current
     // elements (Alg. 7 generalised): exact, O(changed), no full assembly. The pattern only grows.
-    grow_rows(static_cast<Eigen::Index>(3 * m_mesh.num_vertices()));
-    // The new blocks: (a, b, K_ab) summed over the faces a and b share.
+    grow_rows(static_cast<Eigen::Index>(3 * slot(m_mesh.num_vertices())));
+    // The new blocks between slots: (a, b, K_ab) summed over the faces a's and b's vertices share.
     struct Block {
         std::size_t a, b;
         Mat3 K;
     };
     std::vector<Block> blocks;
-    for (std::size_t a : vertices) {
-        const std::size_t first = blocks.size();
-        for (std::uint32_t f : m_incident[a]) {
-            if (!m_alive[f]) continue;
-            const mesh::Face& face = m_mesh.faces[face_id(f)];
-            std::size_t ka = 3;
-            for (std::size_t k = 0; k < 3; ++k)
-                if (ix(face.v[k]) == a) ka = k;
-            for (std::size_t kb = 0; kb < 3; ++kb) {
-                const std::size_t b = ix(face.v[kb]);
-                const Mat3 K =
-                    m_k_top[f].block<3, 3>(static_cast<Eigen::Index>(3 * ka), 9 + static_cast<Eigen::Index>(3 * kb));
-                auto it = std::find_if(blocks.begin() + static_cast<std::ptrdiff_t>(first), blocks.end(),
-                                       [&](const Block& e) { return e.b == b; });
-                if (it == blocks.end())
-                    blocks.push_back({a, b, K});
-                else
-                    it->K += K;
+    for (std::size_t va : vertices) {
+        for (int ja = 0; ja < m_order; ++ja) {
+            const std::size_t a = slot(va, ja);
+            const std::size_t first = blocks.size();
+            for (std::uint32_t f : m_incident[va]) {
+                if (!m_alive[f]) continue;
+                const mesh::Face& face = m_mesh.faces[face_id(f)];
+                std::size_t ka = 3;
+                for (std::size_t k = 0; k < 3; ++k)
+                    if (ix(face.v[k]) == va) ka = k;
+                for (std::size_t kb = 0; kb < 3; ++kb)
+                    for (int jb = 0; jb < m_order; ++jb) {
+                        const std::size_t b = slot(ix(face.v[kb]), jb);
+                        const Mat3 K = k_block(f, ja, ka, jb, kb);
+                        auto it = std::find_if(blocks.begin() + static_cast<std::ptrdiff_t>(first), blocks.end(),
+                                               [&](const Block& e) { return e.b == b; });
+                        if (it == blocks.end())
+                            blocks.push_back({a, b, K});
+                        else
+                            it->K += K;
+                    }
             }
+            if (m_alive_degree[va] == 0) blocks.push_back({a, a, Mat3::Identity()});
         }
-        if (m_alive_degree[a] == 0) blocks.push_back({a, a, Mat3::Identity()});
     }
     // Make room first, in one move: Eigen's one-at-a-time insertion reallocates everything.
     // The matrix stays uncompressed with slack in every row, so most changes fit where they
     // are; a short row moves the rows after it (O(nnz)), so it gets generous slack.
     {
-        constexpr int slack = 18; // six new neighbour vertices
+        const int slack = 18 * m_order; // six new neighbour vertices
         // (row, first column) of each missing 3-column block, each once: a block (a, b) and
         // its mirror (b, a) both ask for the same two.
         std::vector<std::pair<Eigen::Index, Eigen::Index>> absent;
@@ -199,28 +208,30 @@ void FemModel::reassemble_around(const std::vector<std::size_t>& vertices) {
     }
     if (m_trial.active) {
         // Every row this touches: the vertices' own, their old and new neighbours'.
-        for (std::size_t a : vertices)
-            for (int i = 0; i < 3; ++i) {
-                const auto row = static_cast<Eigen::Index>(3 * a) + i;
-                if (row >= m_K.rows()) continue;
-                record_row(row);
-                for (SpMatR::InnerIterator it(m_K, row); it; ++it)
-                    record_row(it.col());
-            }
+        for (std::size_t va : vertices)
+            for (int j = 0; j < m_order; ++j)
+                for (int i = 0; i < 3; ++i) {
+                    const auto row = static_cast<Eigen::Index>(3 * slot(va, j)) + i;
+                    if (row >= m_K.rows()) continue;
+                    record_row(row);
+                    for (SpMatR::InnerIterator it(m_K, row); it; ++it)
+                        record_row(it.col());
+                }
         for (const Block& bl : blocks)
             for (int i = 0; i < 3; ++i) {
                 record_row(static_cast<Eigen::Index>(3 * bl.a) + i);
                 record_row(static_cast<Eigen::Index>(3 * bl.b) + i);
             }
     }
-    for (std::size_t a : vertices)
-        for (int i = 0; i < 3; ++i) {
-            const auto row = static_cast<Eigen::Index>(3 * a) + i;
-            for (SpMatR::InnerIterator it(m_K, row); it; ++it) {
-                it.valueRef() = 0.0;
-                set_entry(m_K, it.col(), row, 0.0);
+    for (std::size_t va : vertices)
+        for (int j = 0; j < m_order; ++j)
+            for (int i = 0; i < 3; ++i) {
+                const auto row = static_cast<Eigen::Index>(3 * slot(va, j)) + i;
+                for (SpMatR::InnerIterator it(m_K, row); it; ++it) {
+                    it.valueRef() = 0.0;
+                    set_entry(m_K, it.col(), row, 0.0);
+                }
             }
-        }
     for (const Block& bl : blocks) {
         set_block(bl.a, bl.b, bl.K);
         set_block(bl.b, bl.a, bl.K.transpose());
@@ -256,8 +267,9 @@ void FemModel::update_around(const std::vector<std::size_t>& vertices) {
 }
 
 void FemModel::grow_rows(Eigen::Index n) {
-    constexpr int slack = 18, room = 60; // per old row, per new row (20 neighbour vertices: bisection
-                                         // around a tip, §5.7.8, gives a new vertex up to ~16)
+    // Per old row, per new row (20 neighbour vertices: bisection around a tip, §5.7.8, gives a new
+    // vertex up to ~16), three entries per slot of each.
+    const int slack = 18 * m_order, room = 60 * m_order;
     if (m_K.isCompressed()) m_K.reserve(Eigen::VectorXi::Constant(m_K.outerSize(), slack));
     const Eigen::Index old = m_K.rows();
     if (old >= n) return;

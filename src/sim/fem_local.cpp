@@ -29,7 +29,8 @@ SolveStats FemModel::relax_field_local(Unknown u, const std::vector<std::size_t>
     Field& fd = field(u);
     ensure_residual(u);
     const std::size_t nv = m_mesh.num_vertices();
-    auto force = [&](std::size_t v) { return fd.residual.segment<3>(static_cast<Eigen::Index>(3 * v)).norm(); };
+    auto force = [&](std::size_t v) { return std::sqrt(vertex_force_squared(fd, v)); };
+    const auto p = static_cast<std::size_t>(m_order); // slots per vertex
     double change = 0;
     for (std::size_t v : seeds)
         change = std::max(change, force(v));
@@ -96,26 +97,34 @@ SolveStats FemModel::relax_field_local(Unknown u, const std::vector<std::size_t>
             return global;
         }
 
-        // === K_SS Δ = r_S with the rest held (the thesis' elimination method, §5.5)
-        const auto m = static_cast<Eigen::Index>(3 * set.size());
+        // === K_SS Δ = r_S with the rest held (the thesis' elimination method, §5.5); every slot
+        // of a vertex in the set is solved for: local unknown 3·(p·i + j) + d.
+        const auto m = static_cast<Eigen::Index>(3 * p * set.size());
         for (std::size_t i = 0; i < set.size(); ++i)
             local_index[set[i]] = static_cast<int>(i);
         std::vector<Eigen::Triplet<double>> triplets;
-        triplets.reserve(static_cast<std::size_t>(m) * 21);
+        triplets.reserve(static_cast<std::size_t>(m) * 21 * p);
         Eigen::VectorXd rhs(m);
         for (std::size_t i = 0; i < set.size(); ++i) {
             const std::size_t v = set[i];
-            rhs.segment<3>(static_cast<Eigen::Index>(3 * i)) = fd.residual.segment<3>(static_cast<Eigen::Index>(3 * v));
-            for (int d = 0; d < 3; ++d) {
-                const auto row = static_cast<Eigen::Index>(3 * v) + d;
-                for (SpMatR::InnerIterator it(m_K, row); it; ++it) {
-                    const int lj = local_index[static_cast<std::size_t>(it.col() / 3)];
-                    // K keeps explicit zeros where edits left them (its pattern only grows);
-                    // leaving them out makes the ordering, and so the answer's last bits,
-                    // independent of the edit history.
-                    if (lj >= 0 && it.value() != 0.0)
-                        triplets.emplace_back(static_cast<Eigen::Index>(3 * i) + d,
-                                              static_cast<Eigen::Index>(3 * lj) + it.col() % 3, it.value());
+            for (std::size_t j = 0; j < p; ++j) {
+                const auto local = static_cast<Eigen::Index>(3 * (p * i + j));
+                rhs.segment<3>(local) = fd.residual.segment<3>(static_cast<Eigen::Index>(3 * (p * v + j)));
+                for (int d = 0; d < 3; ++d) {
+                    const auto row = static_cast<Eigen::Index>(3 * (p * v + j)) + d;
+                    for (SpMatR::InnerIterator it(m_K, row); it; ++it) {
+                        const auto col_slot = static_cast<std::size_t>(it.col() / 3);
+                        const int lj = local_index[col_slot / p];
+                        // K keeps explicit zeros where edits left them (its pattern only grows);
+                        // leaving them out makes the ordering, and so the answer's last bits,
+                        // independent of the edit history.
+                        if (lj >= 0 && it.value() != 0.0)
+                            triplets.emplace_back(
+                                local + d,
+                                static_cast<Eigen::Index>(3 * (p * static_cast<std::size_t>(lj) + col_slot % p))
+                                    + it.col() % 3,
+                                it.value());
+                    }
                 }
             }
         }
@@ -131,26 +140,36 @@ SolveStats FemModel::relax_field_local(Unknown u, const std::vector<std::size_t>
         // === Apply: x_S += Δ; r −= K[:, S] Δ (K symmetric: walk the rows of S). The force
         // this pushes onto the nodes just outside the set is what is left to resolve.
         std::vector<std::size_t> outside;
+        if (pushed.size() < p * nv) pushed.resize(p * nv, Vec3::Zero());
+        auto untouched = [&](std::size_t w) {
+            for (std::size_t j = 0; j < p; ++j)
+                if (pushed[p * w + j] != Vec3::Zero()) return false;
+            return true;
+        };
         for (std::size_t i = 0; i < set.size(); ++i) {
             const std::size_t v = set[i];
-            const Vec3 d = dx.segment<3>(static_cast<Eigen::Index>(3 * i));
-            fd.values[v] += d;
-            m_last_update[v] += d.norm();
+            double moved = 0;
+            for (std::size_t j = 0; j < p; ++j) {
+                const Vec3 d = dx.segment<3>(static_cast<Eigen::Index>(3 * (p * i + j)));
+                fd.values[p * v + j] += d;
+                moved = std::max(moved, d.norm());
+                for (int c = 0; c < 3; ++c) {
+                    const auto row = static_cast<Eigen::Index>(3 * (p * v + j)) + c;
+                    for (SpMatR::InnerIterator it(m_K, row); it; ++it) {
+                        const auto w_slot = static_cast<std::size_t>(it.col() / 3);
+                        const std::size_t w = w_slot / p;
+                        fd.residual[it.col()] -= it.value() * d[c];
+                        if (local_index[w] < 0) {
+                            if (untouched(w)) outside.push_back(w);
+                            pushed[w_slot][it.col() % 3] -= it.value() * d[c];
+                        }
+                    }
+                }
+            }
+            m_last_update[v] += moved;
             if (!touched[v]) {
                 touched[v] = 1;
                 m_updated.push_back(v);
-            }
-            for (int c = 0; c < 3; ++c) {
-                const auto row = static_cast<Eigen::Index>(3 * v) + c;
-                for (SpMatR::InnerIterator it(m_K, row); it; ++it) {
-                    const auto w = static_cast<std::size_t>(it.col() / 3);
-                    fd.residual[it.col()] -= it.value() * d[c];
-                    if (local_index[w] < 0) {
-                        if (pushed.size() < nv) pushed.resize(nv, Vec3::Zero());
-                        if (pushed[w] == Vec3::Zero()) outside.push_back(w);
-                        pushed[w][it.col() % 3] -= it.value() * d[c];
-                    }
-                }
             }
         }
         for (std::size_t v : set)
@@ -161,8 +180,12 @@ SolveStats FemModel::relax_field_local(Unknown u, const std::vector<std::size_t>
         // events are not this change's to resolve).
         std::vector<std::size_t> unresolved;
         for (std::size_t w : outside) {
-            if (m_alive_degree[w] > 0 && pushed[w].norm() > tol) unresolved.push_back(w);
-            pushed[w] = Vec3::Zero();
+            double left = 0; // the force pushed onto w's slots
+            for (std::size_t j = 0; j < p; ++j) {
+                left += pushed[p * w + j].squaredNorm();
+                pushed[p * w + j] = Vec3::Zero();
+            }
+            if (m_alive_degree[w] > 0 && std::sqrt(left) > tol) unresolved.push_back(w);
         }
         for (std::size_t v : set)
             hop[v] = -1;

@@ -14,16 +14,17 @@ namespace crackle::sim {
 FemModel::FemModel(mesh::SurfaceMesh mesh, const mesh::Surface& surface, const GrowthField& growth,
                    const ShrinkageOptions& shrinkage, const LayerFields& fields, const FemOptions& options)
     : m_mesh(std::move(mesh)), m_surface(surface), m_growth(growth), m_shrinkage(shrinkage), m_fields(fields),
-      m_options(options), m_solver(options.solver) {
+      m_options(options), m_order(options.thickness_order), m_solver(options.solver) {
     CRACKLE_ASSERT(
         (fields.thickness || fields.vertex_thickness)
             && ((fields.young_modulus && fields.threshold_stress && fields.toughness) || fields.face_material),
         "every layer field must be given");
+    CRACKLE_ASSERT(m_order >= 1 && m_order <= wedge::MAX_THICKNESS_ORDER, "thickness order " << m_order);
     const std::size_t nv = m_mesh.num_vertices(), nf = m_mesh.num_faces();
     m_normal.resize(nv);
     m_thickness.resize(nv);
-    m_x.values.resize(nv);
-    m_xdot.values.assign(nv, Vec3::Zero());
+    m_x.values.assign(slot(nv), Vec3::Zero());
+    m_xdot.values.assign(slot(nv), Vec3::Zero());
     m_last_update.assign(nv, 0.0);
     for (std::size_t v = 0; v < nv; ++v)
         init_vertex(v);
@@ -31,7 +32,7 @@ FemModel::FemModel(mesh::SurfaceMesh mesh, const mesh::Surface& surface, const G
     m_num_alive = nf;
     m_material.resize(nf);
     m_broken.assign(nf, 0);
-    m_k_top.resize(nf);
+    m_k_free.resize(nf * k_stride());
     for (std::size_t f = 0; f < nf; ++f) {
         if (f % 1024 == 0) budget_check(); // a big layer takes seconds to build (--max-time)
         init_element(f);
@@ -64,7 +65,7 @@ void FemModel::init_vertex(std::size_t v) {
                          ? (*m_fields.vertex_thickness)[v]
                          : thickness_at(p, m_surface.periodic() ? m_mesh.domain[vertex_id(v)] : Vec2::Zero());
     CRACKLE_ASSERT(m_thickness[v] > 0, "non-positive layer thickness at vertex " << v);
-    m_x.values[v] = rest_top(p, m_normal[v], m_thickness[v]);
+    m_x.values[slot(v)] = rest_top(p, m_normal[v], m_thickness[v]);
 }
 
 Vec3 FemModel::rest_top(const Vec3& p0, const Vec3& n0, double h) const {
@@ -113,8 +114,18 @@ void FemModel::init_element(std::size_t f) {
 void FemModel::build_element_stiffness(std::size_t f) {
     const wedge::Nodes q = reference_nodes_at(f, m_stiffness_s_top, m_stiffness_s_bot);
     if (const double det = wedge::min_det_j(q); !(det > 0)) refuse_inverted(f, q, det);
-    const wedge::Mat18 K = wedge::stiffness(q, element_elasticity(face_id(f)));
-    m_k_top[f] = K.bottomRows<9>();
+    if (m_order == 1) {
+        const wedge::Mat18 K = wedge::stiffness(q, element_elasticity(face_id(f)));
+        k_free(f) = K.bottomRows<9>();
+    } else {
+        k_free(f) = wedge::stiffness(q, element_elasticity(face_id(f)), m_order).bottomRows(9 * m_order);
+    }
+}
+
+MatX FemModel::element_stiffness(std::size_t f) const {
+    const wedge::Nodes ref = reference_nodes_at(f, m_stiffness_s_top, m_stiffness_s_bot);
+    if (m_order == 1) return wedge::stiffness(ref, element_elasticity(face_id(f)));
+    return wedge::stiffness(ref, element_elasticity(face_id(f)), m_order);
 }
 
 void FemModel::refuse_inverted(std::size_t f, const wedge::Nodes& q, double det) const {
@@ -160,7 +171,7 @@ wedge::Nodes FemModel::current_nodes(FaceId f) const {
     for (std::size_t k = 0; k < 3; ++k) {
         const Vec3 s = shift(face.offset[k], m_time);
         p[k] = m_growth.position(m_mesh.positions[face.v[k]], m_time) + s;
-        p[k + 3] = m_x.values[ix(face.v[k])] + s;
+        p[k + 3] = m_x.values[slot(ix(face.v[k]))] + s;
     }
     return p;
 }
@@ -169,24 +180,48 @@ wedge::Nodes FemModel::reference_nodes(FaceId f) const {
     return reference_nodes_at(ix(f), m_shrinkage.top(m_time), m_shrinkage.bottom(m_time));
 }
 
-wedge::Vec18 FemModel::displacement(std::size_t f) const {
-    // q = P − Q, differences of nearby positions: accurate to round-off of the positions.
-    return wedge::flatten(current_nodes(face_id(f))) - wedge::flatten(reference_nodes(face_id(f)));
+VecX FemModel::displacement(std::size_t f) const {
+    // q = P − Q, differences of nearby positions: accurate to round-off of the positions. The
+    // modes' amplitudes are displacements already (0 at rest).
+    VecX q(wedge::element_dofs(m_order));
+    q.head<18>() = wedge::flatten(current_nodes(face_id(f))) - wedge::flatten(reference_nodes(face_id(f)));
+    const mesh::Face& face = m_mesh.faces[face_id(f)];
+    for (int j = 1; j < m_order; ++j)
+        for (std::size_t k = 0; k < 3; ++k)
+            q.segment<3>(9 + 9 * j + 3 * static_cast<Eigen::Index>(k)) = m_x.values[slot(ix(face.v[k]), j)];
+    return q;
 }
 
-wedge::Vec18 FemModel::displacement_rate(std::size_t f) const {
+VecX FemModel::displacement_rate(std::size_t f) const {
     // q̇ = Ṗ − Q̇. Q is affine in (s_top, s_bot), which are linear in t: Q̇ = Q(s + rate) − Q(s).
     const mesh::Face& face = m_mesh.faces[face_id(f)];
     wedge::Nodes p_dot;
     for (std::size_t k = 0; k < 3; ++k) {
         const Vec3 s_dot = shift_rate(face.offset[k]);
         p_dot[k] = m_growth.velocity(m_mesh.positions[face.v[k]]) + s_dot;
-        p_dot[k + 3] = m_xdot.values[ix(face.v[k])] + s_dot;
+        p_dot[k + 3] = m_xdot.values[slot(ix(face.v[k]))] + s_dot;
     }
     const double st = m_shrinkage.top(m_time), sb = m_shrinkage.bottom(m_time);
-    return wedge::flatten(p_dot)
-           - (wedge::flatten(reference_nodes_at(f, st + m_shrinkage.top_rate, sb + m_shrinkage.bottom_rate))
-              - wedge::flatten(reference_nodes_at(f, st, sb)));
+    VecX q(wedge::element_dofs(m_order));
+    q.head<18>() = wedge::flatten(p_dot)
+                   - (wedge::flatten(reference_nodes_at(f, st + m_shrinkage.top_rate, sb + m_shrinkage.bottom_rate))
+                      - wedge::flatten(reference_nodes_at(f, st, sb)));
+    for (int j = 1; j < m_order; ++j)
+        for (std::size_t k = 0; k < 3; ++k)
+            q.segment<3>(9 + 9 * j + 3 * static_cast<Eigen::Index>(k)) = m_xdot.values[slot(ix(face.v[k]), j)];
+    return q;
+}
+
+void FemModel::push_vertex_slots() {
+    for (int j = 0; j < m_order; ++j) {
+        m_x.values.emplace_back(Vec3::Zero());
+        m_xdot.values.emplace_back(Vec3::Zero());
+    }
+    for (Field* fd : {&m_x, &m_xdot})
+        if (fd->residual_valid) {
+            fd->residual.conservativeResize(fd->residual.size() + 3 * m_order);
+            fd->residual.tail(3 * m_order).setZero();
+        }
 }
 
 } // namespace crackle::sim

@@ -4,9 +4,11 @@
 /// stiffness of the free (top) nodes, solves the equilibrium, evaluates stresses, and
 /// changes topology by element removal (Alg. 7) and Rivara bisection (Alg. 9).
 ///
-/// Unknowns are the canonical top-node positions x_v, three per surface vertex. The bottom
-/// nodes are eliminated (digest §3.6, "symmetry pitfall"), so the system K_tt·x = b stays
-/// symmetric positive definite. On periodic surfaces a face corner with lattice offset o uses
+/// Unknowns are the canonical top-node positions x_v, three per surface vertex, and with a
+/// through-thickness order p > 1 (FemOptions::thickness_order, wedge_modes.hpp) the p − 1 mode
+/// amplitudes of each vertex: p "slots" of three unknowns per vertex, slot p·v + j (j = 0: the
+/// top node). The bottom nodes are eliminated (digest §3.6, "symmetry pitfall"), so the system
+/// K_tt·x = b stays symmetric positive definite. On periodic surfaces a face corner with lattice offset o uses
 /// x_v + s(o, t), where the period shift s grows with the background; nodes across the seam
 /// are the same unknowns.
 ///
@@ -30,6 +32,7 @@
 #include "sim/property_field.hpp"
 #include "sim/reference_shape.hpp"
 #include "sim/wedge_element.hpp"
+#include "sim/wedge_modes.hpp"
 
 #include <Eigen/SparseCore>
 
@@ -86,6 +89,8 @@ public:
     const ElementMaterial& material(mesh::FaceId f) const { return m_material[mesh::ix(f)]; }
     double poisson_ratio() const { return m_fields.poisson_ratio; }
     double vertex_thickness(mesh::VertexId v) const { return m_thickness[mesh::ix(v)]; }
+    /// Through-thickness order p of the displacement (1: the thesis' linear wedge).
+    int thickness_order() const { return m_order; }
 
     // === Time and equilibrium
     /// Moves the background and the reference shapes to time t, leaving the top nodes where
@@ -139,8 +144,10 @@ public:
     const std::vector<std::uint32_t>& incident_faces(std::size_t v) const { return m_incident[v]; }
 
     // === Positions
-    Vec3 top_position(mesh::VertexId v) const { return m_x.values[mesh::ix(v)]; }
-    Vec3 top_rate(mesh::VertexId v) const { return m_xdot.values[mesh::ix(v)]; }
+    Vec3 top_position(mesh::VertexId v) const { return m_x.values[slot(mesh::ix(v))]; }
+    Vec3 top_rate(mesh::VertexId v) const { return m_xdot.values[slot(mesh::ix(v))]; }
+    /// The amplitude of through-thickness mode k ∈ [2, p] at a vertex (m; 0 at rest).
+    Vec3 mode_amplitude(mesh::VertexId v, int k) const { return m_x.values[slot(mesh::ix(v), k - 1)]; }
     Vec3 bottom_position(mesh::VertexId v) const;
     /// Current node positions of an element (periodic shifts applied).
     wedge::Nodes current_nodes(mesh::FaceId f) const;
@@ -220,7 +227,7 @@ public:
     /// Longest edge of the element's bottom triangle at t = 0 (m).
     double element_size(mesh::FaceId f) const;
 
-    /// The assembled K_tt (3V × 3V, full symmetric storage) for tests and benchmarks.
+    /// The assembled K_tt (3pV × 3pV, full symmetric storage) for tests and benchmarks.
     const Eigen::SparseMatrix<double, Eigen::RowMajor>& stiffness() const { return m_K; }
     /// Rebuilds K from scratch from the element stiffnesses (tests compare it with the
     /// locally updated one).
@@ -232,7 +239,7 @@ private:
     /// An unknown field over the top nodes with its tracked residual b − K·values.
     enum class Unknown { Position, Rate };
     struct Field {
-        std::vector<Vec3> values;
+        std::vector<Vec3> values; ///< per slot (p per vertex): top node, then mode amplitudes
         Eigen::VectorXd residual;
         bool residual_valid = false;
         double load_norm = -1; ///< scale of the tolerance (‖b‖ with the top nodes at rest)
@@ -260,12 +267,45 @@ private:
     Vec3 shift(const Vec2i& offset, double t) const;
     Vec3 shift_rate(const Vec2i& offset) const;
     wedge::Nodes reference_nodes_at(std::size_t f, double s_top, double s_bot) const;
-    wedge::Vec18 displacement(std::size_t f) const;
-    wedge::Vec18 displacement_rate(std::size_t f) const;
-    /// σ at the top Gauss points of element f for nodal displacements q (or their rates).
-    TopStress top_stress_of(std::size_t f, const wedge::Vec18& q) const;
-    /// K_e,top·q (positions) or K_e,top·q̇ (rates): the element's forces on its top nodes.
-    Eigen::Matrix<double, 9, 1> element_force(std::size_t f, Unknown u) const;
+    /// The element's DOFs q = P − Q (9 + 9p: bottom, top, then the modes' amplitudes).
+    VecX displacement(std::size_t f) const;
+    VecX displacement_rate(std::size_t f) const;
+    /// σ at the top Gauss points of element f for nodal displacements q (or their rates); on
+    /// the top face itself (ζ = 1) at the same points with modes (p > 1).
+    TopStress top_stress_of(std::size_t f, const VecX& q) const;
+    /// K_e,free·q (positions) or K_e,free·q̇ (rates): the element's forces on its free DOFs
+    /// (9p: slot-major, [slot j][corner k][xyz]).
+    VecX element_force(std::size_t f, Unknown u) const;
+    /// The element's full K_e ((9 + 9p)²) on the reference shape the stiffness was built with.
+    MatX element_stiffness(std::size_t f) const;
+    /// ½ qᵀ K_e q of one element (J).
+    double element_energy(std::size_t f) const;
+    /// Slot j of vertex v (j = 0: its top node; j ≥ 1: mode j + 1).
+    std::size_t slot(std::size_t v, int j = 0) const {
+        return static_cast<std::size_t>(m_order) * v + static_cast<std::size_t>(j);
+    }
+    /// Rows of K_e for the element's free DOFs, 9p × (9 + 9p), stored flat for every element.
+    std::size_t k_stride() const { return static_cast<std::size_t>(9 * m_order * wedge::element_dofs(m_order)); }
+    Eigen::Map<MatX> k_free(std::size_t f) {
+        return {m_k_free.data() + f * k_stride(), 9 * m_order, wedge::element_dofs(m_order)};
+    }
+    Eigen::Map<const MatX> k_free(std::size_t f) const {
+        return {m_k_free.data() + f * k_stride(), 9 * m_order, wedge::element_dofs(m_order)};
+    }
+    /// The 3 × 3 block of K_e between free DOF slots (j_a, corner a) and (j_b, corner b).
+    Mat3 k_block(std::size_t f, int j_a, std::size_t a, int j_b, std::size_t b) const {
+        return k_free(f).block<3, 3>(9 * j_a + 3 * static_cast<Eigen::Index>(a),
+                                     9 + 9 * j_b + 3 * static_cast<Eigen::Index>(b));
+    }
+    /// r −= the element's free forces, at every slot of its corners (only those marked).
+    void subtract_element_force(std::size_t f, const VecX& force, Eigen::VectorXd& r,
+                                const std::vector<char>* only = nullptr) const;
+    /// |r|² over a vertex's slots: the force left on it (N², generalised forces for the modes).
+    double vertex_force_squared(const Field& fd, std::size_t v) const {
+        const auto at = static_cast<Eigen::Index>(3 * slot(v));
+        return m_order == 1 ? fd.residual.segment<3>(at).squaredNorm()
+                            : fd.residual.segment(at, 3 * m_order).squaredNorm();
+    }
     Eigen::VectorXd full_residual(Unknown u) const;
     void ensure_residual(Unknown u);
     /// Recomputes the residual at the given vertices from their elements.
@@ -276,7 +316,10 @@ private:
     SolveStats relax_field(Unknown u);
     SolveStats relax_field_local(Unknown u, const std::vector<std::size_t>& seeds, double& radius,
                                  const LocalRelaxOptions& options);
+    /// K's block between slots a and b.
     void set_block(std::size_t a, std::size_t b, const Mat3& block);
+    /// Appends a new vertex's slots to both fields (and zero rows to valid residuals).
+    void push_vertex_slots();
     /// After a local topology or shape change: the rows of K of these vertices (sorted,
     /// unique) and the tracked residuals at them.
     void update_around(const std::vector<std::size_t>& vertices);
@@ -317,8 +360,9 @@ private:
     std::vector<char> m_alive;
     std::size_t m_num_alive = 0;
     std::vector<ElementMaterial> m_material;
-    std::vector<std::uint8_t> m_broken;                // graph-fem's broken-edge bits
-    std::vector<Eigen::Matrix<double, 9, 18>> m_k_top; // rows of K_e for the top nodes
+    std::vector<std::uint8_t> m_broken; // graph-fem's broken-edge bits
+    int m_order = 1;                    // through-thickness order: slots per vertex
+    std::vector<double> m_k_free;       // rows of K_e for the free DOFs, k_stride() per element
 
     Eigen::SparseMatrix<double, Eigen::RowMajor> m_K;
     /// Owns the solver; a copy starts with a fresh one of the same kind, set up on first use.
@@ -352,10 +396,13 @@ private:
     void record_element(std::size_t f);
     void record_row(Eigen::Index row);
     void record_incidence(std::size_t v);
-    /// A vertex a topology change is making: its top node and rate, normal and thickness.
+    /// A vertex a topology change is making: its top node and rate, normal and thickness, and
+    /// its modes' amplitudes and rates (interpolated like the displacements).
     struct NewNode {
         Vec3 top = Vec3::Zero(), rate = Vec3::Zero(), normal = Vec3::Zero();
         double thickness = 0;
+        std::array<Vec3, wedge::MAX_THICKNESS_ORDER - 1> mode{Vec3::Zero(), Vec3::Zero()};
+        std::array<Vec3, wedge::MAX_THICKNESS_ORDER - 1> mode_rate{Vec3::Zero(), Vec3::Zero()};
     };
     /// Adopts the vertices and faces that mesh-level splits created (subdivide, split_edge);
     /// `nodes` holds each new vertex's top node and rate, in split order.

@@ -16,6 +16,9 @@ struct FemOptions {
     /// Rebuild K when the shrinkage scale has moved this much since the last build; 0 rebuilds
     /// it at every change of time (the reference the tolerance is tested against).
     double stiffness_refresh = 0.01;
+    /// Polynomial order of the displacement through the layer (wedge_modes.hpp): 1 is the
+    /// thesis' linear wedge; 2 and 3 add per-vertex through-thickness modes (3 unknowns each).
+    int thickness_order = 1;
 };
 
 } // namespace crackle::sim

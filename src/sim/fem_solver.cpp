@@ -82,9 +82,14 @@ SolveStats FemModel::relax_field(Unknown u) {
     const std::size_t nv = m_mesh.num_vertices();
     m_updated.resize(nv);
     for (std::size_t v = 0; v < nv; ++v) {
-        const Vec3 d = dx.segment<3>(static_cast<Eigen::Index>(3 * v));
-        fd.values[v] += d;
-        m_last_update[v] = d.norm();
+        // A vertex's update: the largest move of its slots (its top node and its modes' peaks).
+        double moved = 0;
+        for (int j = 0; j < m_order; ++j) {
+            const Vec3 d = dx.segment<3>(static_cast<Eigen::Index>(3 * slot(v, j)));
+            fd.values[slot(v, j)] += d;
+            moved = std::max(moved, d.norm());
+        }
+        m_last_update[v] = moved;
         m_updated[v] = v;
     }
     stats.nodes = nv;

@@ -59,7 +59,9 @@ void FemModel::advance_time(double t) {
     ensure_residual(Unknown::Position);
     ensure_residual(Unknown::Rate);
     for (std::size_t v = 0; v < m_mesh.num_vertices(); ++v)
-        if (m_alive_degree[v] > 0) m_x.values[v] += dt * m_xdot.values[v];
+        if (m_alive_degree[v] > 0)
+            for (int j = 0; j < m_order; ++j)
+                m_x.values[slot(v, j)] += dt * m_xdot.values[slot(v, j)];
     m_x.residual += dt * m_xdot.residual;
     m_x.load_norm = -1;
     m_time = t;
@@ -81,26 +83,46 @@ double FemModel::stiffness_horizon() const {
 void FemModel::advance_along_rate(double dt) {
     invalidate_residuals();
     for (std::size_t v = 0; v < m_mesh.num_vertices(); ++v)
-        if (m_alive_degree[v] > 0) m_x.values[v] += dt * m_xdot.values[v];
+        if (m_alive_degree[v] > 0)
+            for (int j = 0; j < m_order; ++j)
+                m_x.values[slot(v, j)] += dt * m_xdot.values[slot(v, j)];
 }
 
 // === Residuals
 
-Eigen::Matrix<double, 9, 1> FemModel::element_force(std::size_t f, Unknown u) const {
-    return m_k_top[f] * (u == Unknown::Position ? displacement(f) : displacement_rate(f));
+namespace {
+/// K_free·q, with the linear wedge's fixed-size product (the same bits as before modes).
+VecX free_force(const Eigen::Ref<const MatX>& K, const VecX& q) {
+    if (K.rows() == 9) {
+        const Eigen::Matrix<double, 9, 18> K9 = K;
+        const wedge::Vec18 q18 = q;
+        return K9 * q18;
+    }
+    return K * q;
+}
+} // namespace
+
+VecX FemModel::element_force(std::size_t f, Unknown u) const {
+    return free_force(k_free(f), u == Unknown::Position ? displacement(f) : displacement_rate(f));
+}
+
+void FemModel::subtract_element_force(std::size_t f, const VecX& force, Eigen::VectorXd& r,
+                                      const std::vector<char>* only) const {
+    const mesh::Face& face = m_mesh.faces[face_id(f)];
+    for (std::size_t k = 0; k < 3; ++k) {
+        const std::size_t v = ix(face.v[k]);
+        if (only && !(*only)[v]) continue;
+        for (int j = 0; j < m_order; ++j)
+            r.segment<3>(static_cast<Eigen::Index>(3 * slot(v, j))) -=
+                force.segment<3>(9 * j + static_cast<Eigen::Index>(3 * k));
+    }
 }
 
 Eigen::VectorXd FemModel::full_residual(Unknown u) const {
-    // r = b − K x = −Σ_e (K_e q_e)_top over the alive elements
-    Eigen::VectorXd r = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(3 * m_mesh.num_vertices()));
-    for (std::size_t f = 0; f < m_mesh.num_faces(); ++f) {
-        if (!m_alive[f]) continue;
-        const Eigen::Matrix<double, 9, 1> force = element_force(f, u);
-        const mesh::Face& face = m_mesh.faces[face_id(f)];
-        for (std::size_t k = 0; k < 3; ++k)
-            r.segment<3>(static_cast<Eigen::Index>(3 * ix(face.v[k]))) -=
-                force.segment<3>(static_cast<Eigen::Index>(3 * k));
-    }
+    // r = b − K x = −Σ_e (K_e q_e)_free over the alive elements
+    Eigen::VectorXd r = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(3 * slot(m_mesh.num_vertices())));
+    for (std::size_t f = 0; f < m_mesh.num_faces(); ++f)
+        if (m_alive[f]) subtract_element_force(f, element_force(f, u), r);
     return r;
 }
 
@@ -117,7 +139,7 @@ void FemModel::recompute_residual_at(Unknown u, const std::vector<std::size_t>& 
     std::vector<char> mark(m_mesh.num_vertices(), 0);
     for (std::size_t v : vertices) {
         mark[v] = 1;
-        fd.residual.segment<3>(static_cast<Eigen::Index>(3 * v)).setZero();
+        fd.residual.segment(static_cast<Eigen::Index>(3 * slot(v)), 3 * m_order).setZero();
     }
     std::vector<std::uint32_t> faces;
     for (std::size_t v : vertices)
@@ -125,14 +147,8 @@ void FemModel::recompute_residual_at(Unknown u, const std::vector<std::size_t>& 
             if (m_alive[f]) faces.push_back(f);
     std::sort(faces.begin(), faces.end());
     faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
-    for (std::uint32_t f : faces) {
-        const Eigen::Matrix<double, 9, 1> force = element_force(f, u);
-        const mesh::Face& face = m_mesh.faces[face_id(f)];
-        for (std::size_t k = 0; k < 3; ++k)
-            if (mark[ix(face.v[k])])
-                fd.residual.segment<3>(static_cast<Eigen::Index>(3 * ix(face.v[k]))) -=
-                    force.segment<3>(static_cast<Eigen::Index>(3 * k));
-    }
+    for (std::uint32_t f : faces)
+        subtract_element_force(f, element_force(f, u), fd.residual, &mark);
 }
 
 double FemModel::load_norm(Unknown u) {
@@ -140,27 +156,25 @@ double FemModel::load_norm(Unknown u) {
     if (fd.load_norm >= 0) return fd.load_norm;
     // The residual with every top node at rest above its bottom node (positions), or with
     // ẋ = 0 (rates): the size of the loads that growth and shrinkage create.
-    Eigen::VectorXd r = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(3 * m_mesh.num_vertices()));
+    Eigen::VectorXd r = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(3 * slot(m_mesh.num_vertices())));
     const double s_bar = 0.5 * (m_shrinkage.top(m_time) + m_shrinkage.bottom(m_time));
     for (std::size_t f = 0; f < m_mesh.num_faces(); ++f) {
         if (!m_alive[f]) continue;
         const FaceId id = face_id(f);
         const mesh::Face& face = m_mesh.faces[id];
-        wedge::Vec18 q;
+        VecX q = VecX::Zero(wedge::element_dofs(m_order)); // the modes at rest
         if (u == Unknown::Position) {
             wedge::Nodes p = current_nodes(id);
             for (std::size_t k = 0; k < 3; ++k)
                 p[k + 3] = p[k] + (1.0 - s_bar) * m_thickness[ix(face.v[k])] * m_normal[ix(face.v[k])];
-            q = wedge::flatten(p) - wedge::flatten(reference_nodes(id));
+            q.head<18>() = wedge::flatten(p) - wedge::flatten(reference_nodes(id));
         } else {
             q = displacement_rate(f);
             for (std::size_t k = 0; k < 3; ++k)
-                q.segment<3>(static_cast<Eigen::Index>(9 + 3 * k)) -= m_xdot.values[ix(face.v[k])];
+                q.segment<3>(static_cast<Eigen::Index>(9 + 3 * k)) -= m_xdot.values[slot(ix(face.v[k]))];
+            q.tail(9 * (m_order - 1)).setZero();
         }
-        const Eigen::Matrix<double, 9, 1> force = m_k_top[f] * q;
-        for (std::size_t k = 0; k < 3; ++k)
-            r.segment<3>(static_cast<Eigen::Index>(3 * ix(face.v[k]))) -=
-                force.segment<3>(static_cast<Eigen::Index>(3 * k));
+        subtract_element_force(f, free_force(k_free(f), q), r);
     }
     fd.load_norm = r.norm();
     return fd.load_norm;
@@ -175,7 +189,7 @@ std::vector<std::size_t> FemModel::vertices_over_residual(double force) {
     const Field& fd = field(Unknown::Position);
     std::vector<std::size_t> out;
     for (std::size_t v = 0; v < m_mesh.num_vertices(); ++v)
-        if (fd.residual.segment<3>(static_cast<Eigen::Index>(3 * v)).squaredNorm() > force * force) out.push_back(v);
+        if (vertex_force_squared(fd, v) > force * force) out.push_back(v);
     return out;
 }
 
@@ -188,7 +202,7 @@ double FemModel::max_residual(Unknown u) {
     const Field& fd = field(u);
     double worst = 0;
     for (std::size_t v = 0; v < m_mesh.num_vertices(); ++v)
-        worst = std::max(worst, fd.residual.segment<3>(static_cast<Eigen::Index>(3 * v)).squaredNorm());
+        worst = std::max(worst, vertex_force_squared(fd, v));
     return std::sqrt(worst);
 }
 

@@ -20,10 +20,7 @@ void FemModel::remove_element(FaceId f) {
     for (Unknown u : {Unknown::Position, Unknown::Rate}) {
         Field& fd = field(u);
         if (!fd.residual_valid) continue;
-        const Eigen::Matrix<double, 9, 1> force = element_force(fi, u);
-        for (std::size_t k = 0; k < 3; ++k)
-            fd.residual.segment<3>(static_cast<Eigen::Index>(3 * ix(face.v[k]))) +=
-                force.segment<3>(static_cast<Eigen::Index>(3 * k));
+        subtract_element_force(fi, -element_force(fi, u), fd.residual);
     }
     m_alive[fi] = 0;
     --m_num_alive;
@@ -31,26 +28,27 @@ void FemModel::remove_element(FaceId f) {
         // A node left without elements feels no force: it stays where it is.
         if (--m_alive_degree[ix(v)] == 0)
             for (Field* fd : {&m_x, &m_xdot})
-                if (fd->residual_valid) fd->residual.segment<3>(static_cast<Eigen::Index>(3 * ix(v))).setZero();
+                if (fd->residual_valid)
+                    fd->residual.segment(static_cast<Eigen::Index>(3 * slot(ix(v))), 3 * m_order).setZero();
     }
     // Alg. 7: every block (a, b) between nodes of the removed element is rebuilt from the
     // alive elements that still share both nodes: exact, no subtraction round-off (F12).
     for (std::size_t a = 0; a < 3; ++a)
-        for (std::size_t b = 0; b < 3; ++b) {
-            const std::size_t va = ix(face.v[a]), vb = ix(face.v[b]);
-            Mat3 block = Mat3::Zero();
-            for (std::uint32_t g : m_incident[va]) {
-                if (!m_alive[g]) continue;
-                const mesh::Face& other = m_mesh.faces[face_id(g)];
-                for (std::size_t i = 0; i < 3; ++i)
-                    for (std::size_t j = 0; j < 3; ++j)
-                        if (ix(other.v[i]) == va && ix(other.v[j]) == vb)
-                            block += m_k_top[g].block<3, 3>(static_cast<Eigen::Index>(3 * i),
-                                                            9 + static_cast<Eigen::Index>(3 * j));
-            }
-            if (va == vb && m_alive_degree[va] == 0) block = Mat3::Identity();
-            set_block(va, vb, block);
-        }
+        for (std::size_t b = 0; b < 3; ++b)
+            for (int ja = 0; ja < m_order; ++ja)
+                for (int jb = 0; jb < m_order; ++jb) {
+                    const std::size_t va = ix(face.v[a]), vb = ix(face.v[b]);
+                    Mat3 block = Mat3::Zero();
+                    for (std::uint32_t g : m_incident[va]) {
+                        if (!m_alive[g]) continue;
+                        const mesh::Face& other = m_mesh.faces[face_id(g)];
+                        for (std::size_t i = 0; i < 3; ++i)
+                            for (std::size_t j = 0; j < 3; ++j)
+                                if (ix(other.v[i]) == va && ix(other.v[j]) == vb) block += k_block(g, ja, i, jb, j);
+                    }
+                    if (va == vb && ja == jb && m_alive_degree[va] == 0) block = Mat3::Identity();
+                    set_block(slot(va, ja), slot(vb, jb), block);
+                }
     m_solver->invalidate(false);
     m_stiffness_dirty_for_x = true;
 }
@@ -101,14 +99,22 @@ mesh::NewVertex FemModel::point_in_face(const mesh::SurfaceMesh& m, FaceId face,
         const std::size_t c = ix(fc.v[k]);
         const Vec3& p0 = m.positions[fc.v[k]];
         if (c < adopted) {
-            node.top += bary[w] * (m_x.values[c] - rest_top(p0, m_normal[c], m_thickness[c]));
-            node.rate += bary[w] * (m_xdot.values[c] - rest_top_rate(p0, m_normal[c], m_thickness[c]));
+            node.top += bary[w] * (m_x.values[slot(c)] - rest_top(p0, m_normal[c], m_thickness[c]));
+            node.rate += bary[w] * (m_xdot.values[slot(c)] - rest_top_rate(p0, m_normal[c], m_thickness[c]));
+            for (int j = 1; j < m_order; ++j) {
+                node.mode[static_cast<std::size_t>(j - 1)] += bary[w] * m_x.values[slot(c, j)];
+                node.mode_rate[static_cast<std::size_t>(j - 1)] += bary[w] * m_xdot.values[slot(c, j)];
+            }
         } else {
             // A midpoint an earlier bisection of the same Rivara cascade made.
             CRACKLE_ASSERT(pending && c - adopted < pending->size(), "interpolating from unknown vertex " << c);
             const NewNode& q = (*pending)[c - adopted];
             node.top += bary[w] * (q.top - rest_top(p0, q.normal, q.thickness));
             node.rate += bary[w] * (q.rate - rest_top_rate(p0, q.normal, q.thickness));
+            for (std::size_t j = 0; j < q.mode.size(); ++j) {
+                node.mode[j] += bary[w] * q.mode[j];
+                node.mode_rate[j] += bary[w] * q.mode_rate[j];
+            }
         }
     }
     return nv;
@@ -151,20 +157,18 @@ std::vector<FaceId> FemModel::adopt_splits(const std::vector<mesh::EdgeSplit>& s
     for (std::size_t i = 0; i < splits.size(); ++i) {
         const mesh::EdgeSplit& split = splits[i];
         const std::size_t v = ix(split.vertex);
-        CRACKLE_ASSERT(v == m_x.values.size(), "split order and vertex ids disagree");
+        CRACKLE_ASSERT(slot(v) == m_x.values.size(), "split order and vertex ids disagree");
         m_normal.emplace_back();
         m_thickness.emplace_back();
-        m_x.values.emplace_back();
-        m_xdot.values.emplace_back();
+        push_vertex_slots();
         m_last_update.emplace_back(0.0);
-        for (Field* fd : {&m_x, &m_xdot})
-            if (fd->residual_valid) {
-                fd->residual.conservativeResize(fd->residual.size() + 3);
-                fd->residual.tail<3>().setZero();
-            }
         init_vertex(v);
-        m_x.values[v] = nodes[i].top;
-        m_xdot.values[v] = nodes[i].rate;
+        m_x.values[slot(v)] = nodes[i].top;
+        m_xdot.values[slot(v)] = nodes[i].rate;
+        for (int j = 1; j < m_order; ++j) {
+            m_x.values[slot(v, j)] = nodes[i].mode[static_cast<std::size_t>(j - 1)];
+            m_xdot.values[slot(v, j)] = nodes[i].mode_rate[static_cast<std::size_t>(j - 1)];
+        }
         // Children: the kept id keeps the parent's status, the new id copies it.
         for (const auto& [kid, nid] : split.children) {
             const char status = m_alive[ix(kid)];
@@ -172,7 +176,7 @@ std::vector<FaceId> FemModel::adopt_splits(const std::vector<mesh::EdgeSplit>& s
             if (status) ++m_num_alive;
             m_material.emplace_back();
             m_broken.push_back(0);
-            m_k_top.emplace_back();
+            m_k_free.resize(m_k_free.size() + k_stride());
             touched.push_back(kid);
             touched.push_back(nid);
         }
@@ -241,8 +245,8 @@ void FemModel::move_vertex(VertexId v, const mesh::NewVertex& to, const Vec3& to
     m_mesh.positions[v] = to.position;
     const Vec3 keep_top = top;
     init_vertex(vi); // normal and thickness at the new place
-    m_x.values[vi] = keep_top;
-    m_xdot.values[vi] = rate;
+    m_x.values[slot(vi)] = keep_top;
+    m_xdot.values[slot(vi)] = rate; // the modes keep their amplitudes
     std::vector<std::size_t> vertices;
     for (std::uint32_t f : m_incident[vi]) {
         init_element(f);
@@ -268,16 +272,15 @@ std::vector<std::pair<VertexId, VertexId>> FemModel::cut(const std::vector<std::
     std::vector<FaceId> faces;
     for (const auto& [copy, origin] : copies) {
         const std::size_t v = ix(copy), o = ix(origin);
+        CRACKLE_ASSERT(v == m_normal.size(), "vertex copies are appended in order");
         m_normal.push_back(m_normal[o]);
         m_thickness.push_back(m_thickness[o]);
-        m_x.values.push_back(m_x.values[o]);
-        m_xdot.values.push_back(m_xdot.values[o]);
+        push_vertex_slots();
+        for (int j = 0; j < m_order; ++j) {
+            m_x.values[slot(v, j)] = m_x.values[slot(o, j)];
+            m_xdot.values[slot(v, j)] = m_xdot.values[slot(o, j)];
+        }
         m_last_update.push_back(0.0);
-        for (Field* fd : {&m_x, &m_xdot})
-            if (fd->residual_valid) {
-                fd->residual.conservativeResize(fd->residual.size() + 3);
-                fd->residual.tail<3>().setZero();
-            }
         vertices.push_back(o);
         vertices.push_back(v);
         for (std::uint32_t f : m_incident[o])

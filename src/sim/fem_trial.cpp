@@ -37,7 +37,8 @@ struct FemModel::Trial {
     bool stiffness_dirty = false;
     // Recorded on first change: existing elements and matrix rows.
     std::vector<char> element_recorded;
-    std::vector<std::pair<std::size_t, std::pair<ElementMaterial, Eigen::Matrix<double, 9, 18>>>> elements;
+    std::vector<std::pair<std::size_t, ElementMaterial>> elements;
+    std::vector<double> stiffness; // k_stride() per recorded element, in the order of `elements`
     std::vector<char> row_recorded;
     std::vector<std::pair<Eigen::Index, std::vector<std::pair<Eigen::Index, double>>>> rows;
 };
@@ -78,6 +79,7 @@ void FemModel::begin_trial(bool stiffness_only) {
     t.stiffness_dirty = m_stiffness_dirty_for_x;
     t.element_recorded.assign(t.faces, 0);
     t.elements.clear();
+    t.stiffness.clear();
     t.row_recorded.assign(static_cast<std::size_t>(m_K.rows()), 0);
     t.rows.clear();
     m_trial.active = true;
@@ -89,7 +91,9 @@ void FemModel::record_element(std::size_t f) {
     Trial& t = *m_trial.trial;
     if (f >= t.faces || t.element_recorded[f]) return;
     t.element_recorded[f] = 1;
-    t.elements.push_back({f, {m_material[f], m_k_top[f]}});
+    t.elements.emplace_back(f, m_material[f]);
+    const double* k = m_k_free.data() + f * k_stride();
+    t.stiffness.insert(t.stiffness.end(), k, k + k_stride());
 }
 
 void FemModel::record_incidence(std::size_t v) {
@@ -131,13 +135,16 @@ void FemModel::rollback() {
     m_num_alive = t.num_alive;
     m_stiffness_dirty_for_x = t.stiffness_dirty;
     m_material.resize(t.faces);
-    m_k_top.resize(t.faces);
-    for (const auto& [f, saved] : t.elements) {
-        m_material[f] = saved.first;
-        m_k_top[f] = saved.second;
+    m_k_free.resize(t.faces * k_stride());
+    for (std::size_t i = 0; i < t.elements.size(); ++i) {
+        const auto& [f, material] = t.elements[i];
+        m_material[f] = material;
+        const auto from = t.stiffness.begin() + static_cast<std::ptrdiff_t>(i * k_stride());
+        std::copy(from, from + static_cast<std::ptrdiff_t>(k_stride()),
+                  m_k_free.begin() + static_cast<std::ptrdiff_t>(f * k_stride()));
     }
     // Recorded rows get their old entries back and rows and columns of new vertices are cut off.
-    const auto n = static_cast<Eigen::Index>(3 * t.vertices);
+    const auto n = static_cast<Eigen::Index>(3 * slot(t.vertices));
     if (!m_K.isCompressed()) {
         // In place: the pattern only grows, so a row's storage still holds its old entries.
         for (const auto& [row, entries] : t.rows) {

@@ -1,6 +1,7 @@
 #include "sim/wedge_element.hpp"
 
 #include "core/error.hpp"
+#include "sim/wedge_btdb.hpp"
 
 #include <Eigen/Eigenvalues>
 
@@ -92,34 +93,6 @@ Mat18 stiffness(const Nodes& nodes, double young, double poisson) {
     return stiffness(nodes, elasticity(young, poisson));
 }
 
-namespace {
-
-/// The rows of B holding a column's three non-zeros, and which of (∂x, ∂y, ∂z) each is: column
-/// 3i + d of B (Eq. 5.41) has them for displacement component d of node i.
-constexpr int B_ROW[3][3] = {{0, 4, 5}, {1, 3, 5}, {2, 3, 4}};
-constexpr int B_DERIV[3][3] = {{0, 2, 1}, {1, 2, 0}, {2, 1, 0}};
-
-/// K += s·Bᵀ D B without forming B: each column of B has three non-zeros, so D B costs 3
-/// terms per entry instead of 6 and Bᵀ (D B) 3 instead of 6 (a quarter of the dense work).
-void add_btdb(const Mat3x6& dx, const Mat6& D, double s, Mat18& K) {
-    Eigen::Matrix<double, 6, 18> DB;
-    for (int i = 0; i < 6; ++i)
-        for (int d = 0; d < 3; ++d) {
-            const int q = 3 * i + d;
-            DB.col(q) = D.col(B_ROW[d][0]) * dx(B_DERIV[d][0], i) + D.col(B_ROW[d][1]) * dx(B_DERIV[d][1], i)
-                        + D.col(B_ROW[d][2]) * dx(B_DERIV[d][2], i);
-        }
-    for (int i = 0; i < 6; ++i)
-        for (int d = 0; d < 3; ++d) {
-            const int p = 3 * i + d, r0 = B_ROW[d][0], r1 = B_ROW[d][1], r2 = B_ROW[d][2];
-            const double b0 = s * dx(B_DERIV[d][0], i), b1 = s * dx(B_DERIV[d][1], i), b2 = s * dx(B_DERIV[d][2], i);
-            for (int q = p; q < 18; ++q) // the upper triangle; stiffness() mirrors it
-                K(p, q) += b0 * DB(r0, q) + b1 * DB(r1, q) + b2 * DB(r2, q);
-        }
-}
-
-} // namespace
-
 Mat18 stiffness(const Nodes& nodes, const Mat6& D) {
     Mat18 K = Mat18::Zero();
     for (const GaussPoint& g : quadrature()) {
@@ -127,7 +100,8 @@ Mat18 stiffness(const Nodes& nodes, const Mat6& D) {
         const Mat3 J = jacobian(nodes, dN);
         const double det = J.determinant();
         CRACKLE_ASSERT(det > 0, "inverted or degenerate wedge (det J = " << det << ")");
-        add_btdb(J.inverse() * dN, D, g.weight * det, K); // B as in strain_matrix (Eqs. 5.39–5.41)
+        const Mat3x6 dx = J.inverse() * dN;
+        detail::add_btdb<6>(dx, D, g.weight * det, K); // B as in strain_matrix (Eqs. 5.39–5.41)
     }
     K.triangularView<Eigen::StrictlyLower>() = K.transpose(); // exactly symmetric, so CG sees it so
     return K;
