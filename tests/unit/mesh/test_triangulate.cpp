@@ -134,17 +134,33 @@ TEST_SUITE("mesh") {
         CHECK(corners == 3 * m.num_faces());
     }
 
-    TEST_CASE("triangulate: too few points for a periodic domain fail with a numeric error and not a crash") {
+    TEST_CASE("triangulate: three points on a periodic tile give a valid Delaunay torus of six triangles") {
+        // Few points are not an error: the band of copies reaches 3 point spacings (here 1.7 tiles)
+        // past the tile, so every circumcircle fits and the NumericError "too few points" is not
+        // reached (nor with 0, 1 or 2 points). The result is the torus V − E + F = 0 with F = 2V
+        // and E = 3V: 6 triangles, 9 edges, some using two copies of one vertex.
         const mesh::Surface s = test::make_surface(SurfaceKind::Plane, 1.0, 1.0);
-        std::vector<Vec2> pts = {Vec2(0.1, 0.1), Vec2(0.6, 0.2), Vec2(0.3, 0.7)};
-        try {
-            const auto m = mesh::triangulate_periodic(pts, s);
-            // If it succeeds it must still be a valid torus.
-            CHECK(m.euler_characteristic() == 0);
-        } catch (const NumericError&) {
-            CHECK(true);
-        } catch (const InvariantError&) {
-            CHECK(true);
+        const std::vector<Vec2> pts = {Vec2(0.1, 0.1), Vec2(0.6, 0.2), Vec2(0.3, 0.7)};
+        mesh::SurfaceMesh m;
+        REQUIRE_NOTHROW(m = mesh::triangulate_periodic(pts, s));
+        CHECK(m.validate() == "");
+        CHECK(m.num_vertices() == 3);
+        CHECK(m.num_faces() == 6);
+        CHECK(m.num_edges() == 9);
+        REQUIRE(m.num_boundary_edges() == 0); // delaunay_violations walks every edge's neighbour
+        CHECK(m.euler_characteristic() == 0);
+        for (std::size_t v = 0; v < 3; ++v)
+            CHECK((m.domain[mesh::vertex_id(v)] - pts[v]).norm() < 1e-8); // snapped to the 2⁻³⁰ grid
+        // The unrolled faces are counter-clockwise and tile the unit square exactly once.
+        double area = 0;
+        for (std::size_t fi = 0; fi < m.num_faces(); ++fi) {
+            const auto f = mesh::face_id(fi);
+            const Vec2 a = m.corner_domain(f, 0), b = m.corner_domain(f, 1), c = m.corner_domain(f, 2);
+            const double signed_area = 0.5 * ((b - a).x() * (c - a).y() - (c - a).x() * (b - a).y());
+            CHECK(signed_area > 0.05); // the smallest of these six is 0.11
+            area += signed_area;
         }
+        CHECK(std::abs(area - 1.0) < 1e-12);
+        CHECK(delaunay_violations(m).first == 0);
     }
 }
