@@ -194,6 +194,15 @@ CrackPattern run_graph_fem(sim::FemModel& model, const FractureOptions& options,
                     front.push_back(next);
                 } else {
                     ++g.arrests;
+                    Event arrest;
+                    arrest.time = model.time();
+                    const EdgeGraph::Side& s = graph.edge(next).side[0];
+                    const auto q = model.mesh().face_positions(face_id(s.face));
+                    arrest.position =
+                        0.5 * (q[static_cast<std::size_t>(s.edge)] + q[static_cast<std::size_t>((s.edge + 1) % 3)]);
+                    arrest.kind = "arrest";
+                    arrest.ratio = best_ratio;
+                    g.arrests_at.push_back(arrest);
                     level[next] = std::max(level[next], best_ratio * std::sqrt(shortfall));
                 }
             }

@@ -43,6 +43,9 @@ struct GraphFemStats {
     std::size_t arrests = 0;                              ///< tip extensions that did not pay
     std::size_t edges = 0;                                ///< graph edges (top-surface triangle edges)
     std::size_t nonzeros_initial = 0, nonzeros_final = 0; ///< of K: the same, by construction
+    /// Where and when each tip stopped (kind "arrest", position the midpoint of the edge whose
+    /// break did not pay, ratio its stress over threshold then), as fem-split's.
+    std::vector<Event> arrests_at;
 };
 
 /// The graph: one entry per top-surface triangle edge, with its one or two sides (face, edge).
