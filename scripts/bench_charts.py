@@ -22,8 +22,17 @@ ERROR_LABEL = {
     "film-cylinder": "relative error of the first-crack time",
     "film-sphere": "relative error of the first-crack time",
     "arrest": "|arrest height - reference| (tile heights)",
-    "mud": "distance to reference (seed spreads)",
-    "bark": "distance to reference (seed spreads)",
+    "mud": "RMS of z over statistics (reference seed spreads)",
+    "bark": "RMS of z over statistics (reference seed spreads)",
+}
+STAT_TITLE = {
+    "crack_length_per_area": "crack length per area",
+    "mean_fragment_area": "mean fragment area",
+    "fragment_area_cv": "fragment area CV",
+    "t_junction_fraction": "T share",
+    "anisotropy": "anisotropy",
+    "tortuosity": "tortuosity",
+    "arrest_height": "arrest height",
 }
 STYLE = {
     "bar1d": ("black", "o"),
@@ -34,14 +43,21 @@ STYLE = {
     "fem-split-tip": ("tab:purple", "v"),
     "graph-fem": ("tab:red", "P"),
 }
-FLOOR = 1e-7  # errors of exactly zero, drawn on a log axis
+BARS = ("Bars: \u00b11 sample standard deviation over the point's seeds of each run's value (the seed spread "
+        "of a single run, not the standard error of the mean); a point with one seed has none.")
 
 
 def number(row, key):
     try:
         return float(row[key])
-    except (KeyError, ValueError):
+    except (KeyError, ValueError, TypeError):
         return float("nan")
+
+
+def spread(row, key):
+    """A point's seed spread, 0 when it has none (one seed)."""
+    v = number(row, key)
+    return v if math.isfinite(v) and v > 0 else 0.0
 
 
 def read(path):
@@ -66,53 +82,174 @@ def by_method(rows):
     return out
 
 
-def grid(n):
+def elements_label(n):
+    n = int(round(n))
+    if n < 1000:
+        return str(n)
+    k = n / 1000.0
+    return f"{k:.0f}k" if abs(k - round(k)) < 0.05 else f"{k:.1f}k"
+
+
+def label_points(ax, xs, ys, ns, color):
+    for x, y, n in zip(xs, ys, ns):
+        if math.isfinite(x) and math.isfinite(y):
+            ax.annotate(elements_label(n), (x, y), textcoords="offset points", xytext=(4, 3), fontsize=6,
+                        color=color)
+
+
+def grid(n, height=4.2):
     cols = min(n, 3)
     rows = (n + cols - 1) // cols
-    fig, axes = plt.subplots(rows, cols, figsize=(5.2 * cols, 4.2 * rows), squeeze=False)
+    fig, axes = plt.subplots(rows, cols, figsize=(5.2 * cols, height * rows), squeeze=False)
     flat = [a for row in axes for a in row]
     for a in flat[n:]:
         a.set_visible(False)
     return fig, flat[:n]
 
 
-def save(fig, name):
-    fig.tight_layout()
+def save(fig, name, caption):
+    fig.text(0.01, 0.005, caption, fontsize=7, ha="left", va="bottom", wrap=True)
+    fig.tight_layout(rect=(0, 0.05, 1, 1))
     fig.savefig(f"{out_dir}/{name}", dpi=110, metadata={"Software": None})
     plt.close(fig)
 
 
-# === Error against wall time, one curve per method, the Pareto front marked
+def log_bars(ys, sds):
+    """Asymmetric bars for a log axis: a bar that would reach zero stops at 1 % of its point."""
+    return [[min(s, 0.99 * y) if y > 0 else 0.0 for y, s in zip(ys, sds)], sds]
+
+
+# === Error against wall time, one curve per method, the Pareto front marked. The y axis spans
+# every point: log when the errors cover more than a decade, exact zeros drawn (hollow) on a line
+# a decade below the smallest non-zero error.
 fig, axes = grid(len(scenes))
+zero_drawn = False
 for ax, scene in zip(axes, scenes):
     rows = [p for p in points if p["scene"] == scene and math.isfinite(number(p, "error"))]
+    errors = [number(p, "error") for p in rows]
+    positive = [e for e in errors if e > 0]
+    # Log when the errors span more than a decade, include zeros, or are in seed spreads (where
+    # the line at one seed spread has to show beside errors of 100).
+    use_log = bool(positive) and (max(positive) / min(positive) > 10 or len(positive) < len(errors)
+                                  or scene in ("mud", "bark"))
+    zero_line = min(positive) / 10 if positive else 1e-12
+
+    def shown(e):
+        return e if (e > 0 or not use_log) else zero_line
+
     for method, rs in by_method(rows).items():
         color, marker = STYLE.get(method, ("gray", "x"))
         xs = [number(r, "wall_seconds") for r in rs]
-        ys = [max(number(r, "error"), FLOOR) for r in rs]
-        ax.plot(xs, ys, marker=marker, color=color, label=method, linewidth=1.2, markersize=5)
-    front = sorted((number(p, "wall_seconds"), max(number(p, "error"), FLOOR)) for p in rows if p["pareto"] == "1")
+        ys = [shown(number(r, "error")) for r in rs]
+        ysd = [spread(r, "error_sd") for r in rs]
+        xsd = [spread(r, "wall_seconds_sd") for r in rs]
+        ax.errorbar(xs, ys, yerr=log_bars(ys, ysd) if use_log else ysd, xerr=log_bars(xs, xsd), marker=marker,
+                    color=color, label=method, linewidth=1.2, markersize=5, capsize=2, elinewidth=0.8)
+        zeros = [(x, y) for x, y, r in zip(xs, ys, rs) if number(r, "error") == 0 and use_log]
+        if zeros:
+            zero_drawn = True
+            ax.scatter([z[0] for z in zeros], [z[1] for z in zeros], s=40, facecolors="white", edgecolors=color,
+                       zorder=4)
+        label_points(ax, xs, ys, [number(r, "elements") for r in rs], color)
+    front = sorted((number(p, "wall_seconds"), shown(number(p, "error"))) for p in rows if p["pareto"] == "1")
     if front:
         ax.step([f[0] for f in front], [f[1] for f in front], where="post", color="gray", linestyle="--",
                 linewidth=1, label="Pareto front")
         ax.scatter([f[0] for f in front], [f[1] for f in front], s=110, facecolors="none", edgecolors="black",
                    linewidths=1.0, zorder=5)
     if scene in ("mud", "bark"):
-        ax.axhline(1.0, color="gray", linewidth=0.8, linestyle=":")
+        ax.axhline(1.0, color="gray", linewidth=0.8, linestyle=":", label="one seed spread")
+    if use_log and len(positive) < len(errors):
+        ax.axhline(zero_line, color="lightgray", linewidth=0.8, linestyle="-")
     ax.set_xscale("log")
-    ax.set_yscale("log")
+    if use_log:
+        ax.set_yscale("log")
+    else:
+        ax.set_ylim(bottom=0)
     ax.set_title(scene)
     ax.set_xlabel("wall time per run (s)")
     ax.set_ylabel(ERROR_LABEL.get(scene, "error"))
     ax.grid(True, which="both", linewidth=0.3, alpha=0.5)
     ax.legend(fontsize=7)
-save(fig, "error_vs_time.png")
+save(fig, "error_vs_time.png",
+     "Error (seed average) against wall time; labels: starting element count (bar: sub-segments). " + BARS
+     + (" Hollow points on the grey line: an error of exactly 0." if zero_drawn else ""))
+
+# === Which statistic is off: z of each compared statistic against the element count, per method
+# (mud, bark, arrest), symlog so that z of 0.1 and of 300 both show; the band is |z| <= 1.
+stat_panels = []
+for scene in scenes:
+    rows = [p for p in points if p["scene"] == scene]
+    for key in STAT_TITLE:
+        column = f"z_{key}"
+        if not rows or column not in rows[0]:
+            continue
+        has_z = any(math.isfinite(number(r, column)) for r in rows)
+        listed = any(key in (r.get("not_comparable") or "").split(";") for r in rows)
+        if has_z or listed:
+            stat_panels.append((scene, key))
+fig, axes = grid(max(len(stat_panels), 1), height=3.6)
+legend_drawn = False
+if not stat_panels:
+    axes[0].text(0.5, 0.5, "no scene with a reference in this study", ha="center", va="center")
+    axes[0].set_axis_off()
+for ax, (scene, key) in zip(axes, stat_panels):
+    rows = [p for p in points if p["scene"] == scene]
+    column = f"z_{key}"
+    drawn = False
+    ticks = set()
+    lows, highs = [-1.0], [1.0]
+    for method, rs in by_method(rows).items():
+        color, marker = STYLE.get(method, ("gray", "x"))
+        rs = [r for r in rs if math.isfinite(number(r, column))]
+        if not rs:
+            continue
+        drawn = True
+        xs = [number(r, "elements") for r in rs]
+        ys = [number(r, column) for r in rs]
+        sds = [spread(r, column + "_sd") for r in rs]
+        ticks.update(xs)
+        lows += [y - e for y, e in zip(ys, sds)]
+        highs += [y + e for y, e in zip(ys, sds)]
+        ax.errorbar(xs, ys, yerr=sds, color=color, linewidth=1.0, capsize=2, elinewidth=0.8, label=method)
+        within = [r.get("within_tol_" + key) == "1" for r in rs]
+        ax.scatter([x for x, w in zip(xs, within) if w], [y for y, w in zip(ys, within) if w], marker=marker,
+                   color=color, s=22, zorder=4)
+        ax.scatter([x for x, w in zip(xs, within) if not w], [y for y, w in zip(ys, within) if not w],
+                   marker=marker, facecolors="white", edgecolors=color, s=22, zorder=4)
+    title = f"{scene}: {STAT_TITLE[key]}"
+    if not drawn:
+        ax.text(0.5, 0.5, "not comparable:\nthe reference cannot scale it\n(summary.md says why)",
+                ha="center", va="center", fontsize=8, transform=ax.transAxes)
+        ax.set_title(title)
+        ax.set_xticks([])
+        ax.set_yticks([])
+        continue
+    ax.axhspan(-1, 1, color="gray", alpha=0.15, linewidth=0)
+    ax.axhline(0, color="gray", linewidth=0.6)
+    ax.set_xscale("log")
+    ax.set_yscale("symlog", linthresh=1.0)
+    ax.set_ylim(2 * min(lows), 2 * max(highs))  # every point and bar inside, with a margin
+    ax.set_xticks(sorted(ticks))
+    ax.set_xticklabels([elements_label(t) for t in sorted(ticks)], fontsize=7)
+    ax.minorticks_off()
+    ax.set_title(title)
+    ax.set_xlabel("starting elements")
+    ax.set_ylabel("z = (x - mean) / seed spread")
+    ax.grid(True, which="major", linewidth=0.3, alpha=0.5)
+    if not legend_drawn:
+        ax.legend(fontsize=6)
+        legend_drawn = True
+save(fig, "stat_errors.png",
+     "Per-statistic error z of the seed average, in the reference's seed spreads (symmetric log axis, linear "
+     "within +-1; grey band: |z| <= 1). Filled: within the statistic's tolerance, hollow: outside. " + BARS)
 
 # === Cost against element count, with the fitted slope per method
 cost_scenes = [s for s in scenes if s != "bar"] or scenes
 fig, axes = grid(len(cost_scenes))
 for ax, scene in zip(axes, cost_scenes):
     rows = [p for p in points if p["scene"] == scene]
+    ticks = set()
     for method, rs in by_method(rows).items():
         color, marker = STYLE.get(method, ("gray", "x"))
         xs = [number(r, "elements") for r in rs]
@@ -127,16 +264,23 @@ for ax, scene in zip(axes, cost_scenes):
             if sxx > 0:
                 slope = sum((x - mx) * (y - my) for x, y in zip(lx, ly)) / sxx
                 label = f"{method} (slope {slope:.2f})"
-        ax.plot([x for x, _ in ok], [y for _, y in ok], marker=marker, color=color, label=label, linewidth=1.2,
-                markersize=5)
+        sds = [spread(r, "wall_seconds_sd") for r, x, y in zip(rs, xs, ys) if x > 0 and y > 0]
+        ax.errorbar([x for x, _ in ok], [y for _, y in ok], yerr=log_bars([y for _, y in ok], sds), marker=marker,
+                    color=color, label=label, linewidth=1.2, markersize=5, capsize=2, elinewidth=0.8)
+        ticks.update(x for x, _ in ok)
     ax.set_xscale("log")
     ax.set_yscale("log")
+    if ticks:
+        ax.set_xticks(sorted(ticks))
+        ax.set_xticklabels([elements_label(t) for t in sorted(ticks)], fontsize=7)
+        ax.minorticks_off()
     ax.set_title(scene)
     ax.set_xlabel("elements (mass-spring: one mass per two)")
     ax.set_ylabel("wall time per run (s)")
     ax.grid(True, which="both", linewidth=0.3, alpha=0.5)
     ax.legend(fontsize=7)
-save(fig, "cost_vs_elements.png")
+save(fig, "cost_vs_elements.png", "Wall time per run (seed average) against the starting element count, with the "
+     "least-squares slope of log(wall) on log(elements). " + BARS)
 
 # === Time shares by phase, per method, at each scene's largest resolution every method ran
 share_scenes = [s for s in scenes if s not in ("bar",)]
@@ -176,6 +320,7 @@ for ax, scene in zip(axes, share_scenes):
     ax.set_ylim(0, 100)
     if names:
         ax.legend(fontsize=7)
-save(fig, "time_shares.png")
+save(fig, "time_shares.png", "Share of the seed-average wall time by phase, at the largest element count every "
+     "method of the scene ran (no bars: a breakdown of one mean).")
 
 print(f"charts from {len(runs)} runs, {len(points)} points")

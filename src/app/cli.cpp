@@ -250,7 +250,10 @@ int run(int argc, const char* const* argv, std::ostream& out, std::ostream& err)
             "--scenes", study_args.scenes,
             "Study scenes (comma-separated): bar, film, film-cylinder, film-sphere, arrest, mud, bark (default: all)")
         ->delimiter(',');
-    bench->add_option("--seeds", study_args.seeds, "Seeds per point (default 3; 1 with --quick)")
+    bench
+        ->add_option(
+            "--seeds", study_args.seeds,
+            "Seeds per point (default 3; 1 with --quick); with --make-reference, the reference's seeds (default 8)")
         ->check(CLI::Range(1, 50));
     bench->add_option("--time-limit", study_args.time_limit, "Seconds per run before it is stopped (default 600)")
         ->check(CLI::Range(1.0, 86400.0));

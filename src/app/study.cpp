@@ -27,8 +27,9 @@ namespace {
 struct Record {
     StudyRun run;
     RunOutcome outcome;
-    StatMap stats; ///< statistics and timings read from the report
-    double error = NAN;
+    StatMap stats;                 ///< statistics and timings read from the report
+    double error = NAN;            ///< the scene's error (docs/benchmarks.md, "Scenes and their error metrics")
+    std::vector<StatError> errors; ///< per compared statistic, against the reference
 };
 
 /// The CSV columns after scene, method, elements, seed and status, read from the report.
@@ -77,27 +78,92 @@ double stat(const StatMap& s, const char* key) {
     return it == s.end() ? NAN : it->second;
 }
 
-/// The error of one run (docs/benchmarks.md, "Error metrics"); NaN when it has none.
-double run_error(const Record& r, const Reference& reference) {
-    if (r.outcome.status != "ok") return NAN;
-    const double first = stat(r.stats, "first_event_time");
-    if (r.run.scene == "bar") return std::abs(first / r.outcome.report.find("closed_form_time")->as_number() - 1.0);
-    if (is_film(r.run.scene)) return first > 0 ? std::abs(first / film_time(r.run.scene) - 1.0) : NAN;
-    const auto ref = reference.find(r.run.scene);
-    if (ref == reference.end()) return NAN;
-    if (r.run.scene == "arrest") {
-        const double h = stat(r.stats, "arrest_height");
-        const auto it = ref->second.stats.find("arrest_height");
-        return h >= 0 && it != ref->second.stats.end() ? std::abs(h - it->second.mean) : NAN;
+/// The per-statistic errors of a scene's statistics `x` (a run, or a point's seed mean) against
+/// the reference; empty for the closed-form scenes.
+std::vector<StatError> scene_stat_errors(const std::string& scene, const StatMap& x, const Reference& reference) {
+    const std::vector<std::string> keys = compared_statistics(scene);
+    if (keys.empty()) return {};
+    const auto ref = reference.find(scene);
+    if (ref == reference.end()) {
+        std::vector<StatError> none;
+        for (const std::string& k : keys) {
+            StatError e;
+            e.key = k;
+            e.why_not = "no reference for the scene";
+            none.push_back(e);
+        }
+        return none;
     }
-    return pattern_distance(r.stats, ref->second, pattern_scales(r.run.scene));
+    return stat_errors(x, ref->second, keys);
+}
+
+/// The scene error of a pattern or arrest scene from its statistics: the RMS of z over the
+/// comparable statistics (mud, bark), |h − h_ref| in tile heights (arrest).
+double reference_error(const std::string& scene, const StatMap& x, const std::vector<StatError>& errors,
+                       const Reference& reference) {
+    if (scene == "arrest") {
+        const auto ref = reference.find(scene);
+        const double h = stat(x, "arrest_height");
+        if (ref == reference.end() || !ref->second.stats.count("arrest_height") || !(h >= 0)) return NAN;
+        return std::abs(h - ref->second.stats.at("arrest_height").mean);
+    }
+    return rms_z(errors);
+}
+
+/// Sets one run's error and per-statistic errors (docs/benchmarks.md, "Scenes and their error
+/// metrics"); NaN when it has none.
+void evaluate_run(Record& r, const Reference& reference) {
+    r.error = NAN;
+    r.errors.clear();
+    if (r.outcome.status != "ok") return;
+    const double first = stat(r.stats, "first_event_time");
+    if (r.run.scene == "bar") {
+        r.error = std::abs(first / r.outcome.report.find("closed_form_time")->as_number() - 1.0);
+    } else if (is_film(r.run.scene)) {
+        r.error = first > 0 ? std::abs(first / film_time(r.run.scene) - 1.0) : NAN;
+    } else {
+        r.errors = scene_stat_errors(r.run.scene, r.stats, reference);
+        r.error = reference_error(r.run.scene, r.stats, r.errors, reference);
+    }
+}
+
+/// The column prefix of a statistic's error: relative (x/μ − 1) or absolute (x − μ).
+std::string error_column(const std::string& key) {
+    const StatTolerance* t = find_tolerance(key);
+    return (t && t->kind == ToleranceKind::Relative ? "rel_err_" : "abs_err_") + key;
+}
+
+/// Per statistic of error_statistics(): z_<key> [z_<key>_sd], rel_err_ or abs_err_<key>,
+/// within_tol_<key>; then z_rms, within_tolerance, not_comparable.
+std::string error_header(bool with_sd) {
+    std::string h;
+    for (const std::string& k : error_statistics()) {
+        h += ",z_" + k;
+        if (with_sd) h += ",z_" + k + "_sd";
+        h += "," + error_column(k) + ",within_tol_" + k;
+    }
+    return h + ",z_rms,within_tolerance,not_comparable";
+}
+
+std::string error_cells(const std::vector<StatError>& errors, const StatMap* z_sd) {
+    std::string row, not_comparable;
+    for (const std::string& k : error_statistics()) {
+        const auto e = std::find_if(errors.begin(), errors.end(), [&](const StatError& s) { return s.key == k; });
+        const bool compared = e != errors.end() && e->comparable;
+        row += "," + (compared ? num(e->z) : "");
+        if (z_sd) row += "," + (compared ? num(stat(*z_sd, k.c_str())) : "");
+        row += "," + (compared ? num(e->error) : "") + "," + (compared ? (e->within_tolerance ? "1" : "0") : "");
+        if (e != errors.end() && !e->comparable) not_comparable += (not_comparable.empty() ? "" : ";") + k;
+    }
+    const int verdict = within_tolerance(errors);
+    return row + "," + num(rms_z(errors)) + "," + (verdict < 0 ? "" : std::to_string(verdict)) + "," + not_comparable;
 }
 
 std::string csv_header() {
     std::string h = "scene,method,elements,seed,status";
     for (const auto& c : stat_columns())
         h += "," + c;
-    return h + ",error\n";
+    return h + error_header(false) + ",error\n";
 }
 
 std::string csv_row(const Record& r) {
@@ -105,7 +171,22 @@ std::string csv_row(const Record& r) {
                       + std::to_string(r.run.seed) + "," + r.outcome.status;
     for (const auto& c : stat_columns())
         row += "," + num(stat(r.stats, c.c_str()));
-    return row + "," + num(r.error) + "\n";
+    return row + error_cells(r.errors, nullptr) + "," + num(r.error) + "\n";
+}
+
+/// Sample standard deviation (n − 1) of the finite values; NaN for fewer than two.
+double seed_spread(const std::vector<double>& v) {
+    std::vector<double> x;
+    for (double a : v)
+        if (std::isfinite(a)) x.push_back(a);
+    if (x.size() < 2) return NAN;
+    double mean = 0, ss = 0;
+    for (double a : x)
+        mean += a;
+    mean /= double(x.size());
+    for (double a : x)
+        ss += sqr(a - mean);
+    return std::sqrt(ss / double(x.size() - 1));
 }
 
 /// A method × resolution of a scene, seed-averaged.
@@ -113,8 +194,12 @@ struct Point {
     std::string scene, method;
     long long elements = 0;
     int runs = 0, ok = 0;
-    StatMap mean; ///< means of the stat columns over the finished runs
+    StatMap mean;                  ///< means of the stat columns over the finished runs
+    std::vector<StatError> errors; ///< the seed mean's per-statistic errors (pattern and arrest scenes)
     double error = NAN;
+    double error_sd = NAN; ///< sample σ over the point's runs of their errors (the chart's bars)
+    double wall_sd = NAN;  ///< sample σ over the point's runs of their wall times
+    StatMap z_sd;          ///< per statistic: sample σ over the point's runs of their z
     bool pareto = false;
 };
 
@@ -133,16 +218,26 @@ std::vector<Point> aggregate(const std::vector<Record>& records, const Reference
         std::vector<StatMap> ok;
         double error_sum = 0;
         int errors = 0;
+        std::vector<double> run_errors, run_walls;
+        std::map<std::string, std::vector<double>> run_z;
         for (const Record* r : groups[key]) {
             ++p.runs;
             if (r->outcome.status != "ok") continue;
             ok.push_back(r->stats);
+            run_walls.push_back(stat(r->stats, "wall_seconds"));
+            run_errors.push_back(r->error);
             if (std::isfinite(r->error)) {
                 error_sum += r->error;
                 ++errors;
             }
+            for (const StatError& e : r->errors)
+                if (e.comparable) run_z[e.key].push_back(e.z);
         }
         p.ok = int(ok.size());
+        p.error_sd = seed_spread(run_errors);
+        p.wall_sd = seed_spread(run_walls);
+        for (const auto& [k, zs] : run_z)
+            if (const double sd = seed_spread(zs); std::isfinite(sd)) p.z_sd[k] = sd;
         for (const auto& c : stat_columns()) {
             double sum = 0;
             int n = 0;
@@ -153,15 +248,15 @@ std::vector<Point> aggregate(const std::vector<Record>& records, const Reference
                 }
             if (n > 0) p.mean[c] = sum / n;
         }
-        const auto ref = reference.find(p.scene);
+        // A point compares its seed mean (geometric for the logarithmic statistics) with the
+        // reference, in the reference's single-run seed spreads.
+        const std::vector<std::string> compared = compared_statistics(p.scene);
         if (ok.empty()) {
             p.error = NAN;
-        } else if ((p.scene == "mud" || p.scene == "bark") && ref != reference.end()) {
-            p.error =
-                pattern_distance(average_stats(ok, pattern_scales(p.scene)), ref->second, pattern_scales(p.scene));
-        } else if (p.scene == "arrest" && ref != reference.end() && ref->second.stats.count("arrest_height")) {
-            const double h = stat(p.mean, "arrest_height");
-            p.error = std::isfinite(h) ? std::abs(h - ref->second.stats.at("arrest_height").mean) : NAN;
+        } else if (!compared.empty()) {
+            const StatMap seed_mean = average_stats(ok, scales_of(compared));
+            p.errors = scene_stat_errors(p.scene, seed_mean, reference);
+            p.error = reference_error(p.scene, seed_mean, p.errors, reference);
         } else {
             p.error = errors > 0 ? error_sum / errors : NAN;
         }
@@ -210,33 +305,168 @@ std::string points_csv(const std::vector<Point>& points) {
     std::string csv = "scene,method,elements,runs,ok";
     for (const auto& c : stat_columns())
         csv += "," + c;
-    csv += ",error,pareto\n";
+    csv += ",wall_seconds_sd" + error_header(true) + ",error,error_sd,pareto\n";
     for (const Point& p : points) {
         csv += p.scene + "," + p.method + "," + std::to_string(p.elements) + "," + std::to_string(p.runs) + ","
                + std::to_string(p.ok);
         for (const auto& c : stat_columns())
             csv += "," + num(stat(p.mean, c.c_str()));
-        csv += "," + num(p.error) + "," + (p.pareto ? "1" : "0") + "\n";
+        csv += "," + num(p.wall_sd) + error_cells(p.errors, &p.z_sd) + "," + num(p.error) + "," + num(p.error_sd) + ","
+               + (p.pareto ? "1" : "0") + "\n";
     }
     return csv;
 }
 
-std::string summary_markdown(const std::vector<Point>& points) {
-    std::string md;
-    const auto slopes = cost_slopes(points);
-    std::string scene;
-    char buf[256];
-    for (const Point& p : points) {
-        if (p.scene != scene) {
-            scene = p.scene;
-            md += "\n#### " + scene
-                  + "\n\n| method | elements | runs ok | wall | peak memory | events | error | Pareto |\n"
-                    "|---|---:|---:|---:|---:|---:|---:|:-:|\n";
+/// A statistic's display name (the column headers of docs/benchmarks.md).
+std::string stat_title(const std::string& key) {
+    static const std::map<std::string, std::string> titles = {{"crack_length_per_area", "crack length per area"},
+                                                              {"mean_fragment_area", "mean fragment area"},
+                                                              {"fragment_area_cv", "fragment area CV"},
+                                                              {"t_junction_fraction", "T share"},
+                                                              {"anisotropy", "anisotropy"},
+                                                              {"tortuosity", "tortuosity"},
+                                                              {"arrest_height", "arrest height"},
+                                                              {"fragments", "fragments"}};
+    const auto it = titles.find(key);
+    return it == titles.end() ? key : it->second;
+}
+
+std::string fmt(const char* format, double v) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, format, v);
+    return buf;
+}
+
+/// A tolerance as written in the tables: "5 %" or "0.05".
+std::string tolerance_text(const std::string& key) {
+    const StatTolerance* t = find_tolerance(key);
+    if (!t) return "–";
+    return t->kind == ToleranceKind::Relative ? fmt("%g %%", 100 * t->value) : fmt("%g", t->value);
+}
+
+/// One cell of the per-statistic table: "z (error verdict)", or n/c.
+std::string error_cell(const StatError& e) {
+    if (!e.comparable) return "n/c";
+    const StatTolerance* t = find_tolerance(e.key);
+    const bool relative = t && t->kind == ToleranceKind::Relative;
+    const std::string z = std::abs(e.z) >= 100 ? fmt("%+.0f", e.z) : fmt(std::abs(e.z) >= 10 ? "%+.1f" : "%+.2f", e.z);
+    const std::string err = relative ? fmt("%+.1f %%", 100 * e.error) : fmt("%+.3g", e.error);
+    return z + " (" + err + (e.within_tolerance ? " ✓" : " ✗") + ")";
+}
+
+/// How to read the errors, and the reference each pattern scene is compared with.
+std::string summary_preamble(const std::vector<Point>& points, const Reference& reference) {
+    std::vector<std::string> scenes;
+    for (const Point& p : points)
+        if (!compared_statistics(p.scene).empty() && reference.count(p.scene)
+            && std::find(scenes.begin(), scenes.end(), p.scene) == scenes.end())
+            scenes.push_back(p.scene);
+    std::string md =
+        "### How to read the errors\n\n"
+        "- **bar, film, film-cylinder, film-sphere:** |t/t* − 1|, the relative error of the first break "
+        "(crack) time against its closed form.\n"
+        "- **mud, bark, arrest, per statistic k:** z_k = (x_k − μ_k)/σ_k, x_k the run's value (for a point: the "
+        "mean over its seeds; geometric for crack length per area and mean fragment area, whose z is taken of "
+        "log x), μ_k the reference's mean and σ_k its seed spread, the sample standard deviation over the "
+        "reference's seeds. **z = 1 is one seed spread of a single run:** as far from the reference's mean as "
+        "one more reference seed typically lands. No floor enters z. A converged method's n-seed mean still "
+        "scatters by about √(1/n + 1/N) in z (N reference seeds).\n"
+        "- **Relative or absolute error and tolerance:** beside z, each statistic's error x/μ − 1 (crack "
+        "length per area, mean fragment area) or x − μ (the others), and ✓ when it is within the statistic's "
+        "named tolerance (what a texture user would accept; below). Tolerances are judgements: nothing is "
+        "divided by them.\n"
+        "- **error (mud, bark):** √(mean z_k²) over the comparable statistics, in seed spreads. **error "
+        "(arrest):** |h − h_ref| in tile heights (its z is in the per-statistic table).\n"
+        "- **n/c, not comparable:** the reference gives no scale for that statistic (its seeds agree exactly, "
+        "or, for the fragment statistics, it has fewer than "
+        + fmt("%.0f", MIN_REFERENCE_FRAGMENTS)
+        + " fragments per run); it is left out of the error.\n"
+          "- **Error bars in the charts:** ±1 sample standard deviation over the point's seeds of each run's "
+          "error (the seed spread of a single run's error, not the standard error of the mean); a point with "
+          "one seed has none.\n";
+    if (scenes.empty()) return md;
+    md += "\n### Reference and tolerances\n\n"
+          "| scene | statistic | seeds | mean μ | seed spread σ | σ, bootstrap 16–84 % | tolerance |\n"
+          "|---|---|---:|---:|---:|---:|---:|\n";
+    std::string warnings;
+    for (const std::string& scene : scenes) {
+        const SceneReference& ref = reference.at(scene);
+        std::vector<std::string> keys = compared_statistics(scene);
+        for (const std::string& k : keys) {
+            const auto it = ref.stats.find(k);
+            if (it == ref.stats.end()) continue;
+            const ReferenceStat& st = it->second;
+            const bool log = scales_of({k}).front().logarithmic;
+            auto spread = [&](double v) { return log ? fmt("%.3g %%", 100 * v) : fmt("%.3g", v); };
+            const std::vector<StatError> check = stat_errors({{k, st.mean}}, ref, {k});
+            const std::string nc = check.front().comparable ? "" : " (n/c: " + check.front().why_not + ")";
+            md += "| " + scene + " | " + stat_title(k) + nc + " | " + std::to_string(st.values.size()) + " | "
+                  + fmt("%.4g", st.mean) + " | " + spread(st.spread) + " | " + spread(st.spread_low) + " – "
+                  + spread(st.spread_high) + " | " + tolerance_text(k) + " |\n";
         }
-        std::snprintf(buf, sizeof buf, "| %s | %lld | %d/%d | %.2f s | %.0f MiB | %.0f | %s | %s |\n", p.method.c_str(),
-                      p.elements, p.ok, p.runs, stat(p.mean, "wall_seconds"), stat(p.mean, "peak_memory_mb"),
-                      stat(p.mean, "events"), std::isfinite(p.error) ? num(p.error).c_str() : "–", p.pareto ? "●" : "");
-        md += buf;
+        if (ref.seeds.size() < std::size_t(REFERENCE_SEEDS))
+            warnings += "- The " + scene + " reference has " + std::to_string(ref.seeds.size()) + " seeds (fewer than "
+                        + std::to_string(REFERENCE_SEEDS)
+                        + "): its σ is uncertain by the bootstrap band above; regenerate it with crackle bench "
+                          "--make-reference.\n";
+    }
+    md += "\nσ of crack length per area and mean fragment area is of log x (shown as a relative spread). "
+          "The bootstrap band: "
+          + std::to_string(BOOTSTRAP_RESAMPLES)
+          + " resamples of the reference's seeds with replacement, the 16th and 84th percentiles of their σ "
+            "(each scaled by √(n/(n − 1)): a resample's variance averages (n − 1)/n of the sample's). With few "
+            "seeds the band is wide and lumpy: it can only redraw the values it has.\n";
+    if (!warnings.empty()) md += "\n" + warnings;
+    return md;
+}
+
+std::string summary_markdown(const std::vector<Point>& points, const Reference& reference) {
+    std::string md = summary_preamble(points, reference);
+    const auto slopes = cost_slopes(points);
+    char buf[256];
+    std::vector<std::string> scenes;
+    for (const Point& p : points)
+        if (std::find(scenes.begin(), scenes.end(), p.scene) == scenes.end()) scenes.push_back(p.scene);
+    for (const std::string& scene : scenes) {
+        const std::vector<std::string> keys = compared_statistics(scene);
+        const std::string unit = scene == "mud" || scene == "bark" ? "RMS z"
+                                 : scene == "arrest"               ? "tile heights"
+                                                                   : "relative";
+        md += "\n#### " + scene + "\n\n| method | elements | runs ok | wall | peak memory | events | error (" + unit
+              + ") | ± seed spread | Pareto |\n|---|---:|---:|---:|---:|---:|---:|---:|:-:|\n";
+        for (const Point& p : points) {
+            if (p.scene != scene) continue;
+            std::snprintf(buf, sizeof buf, "| %s | %lld | %d/%d | %.2f s | %.0f MiB | %.0f | %s | %s | %s |\n",
+                          p.method.c_str(), p.elements, p.ok, p.runs, stat(p.mean, "wall_seconds"),
+                          stat(p.mean, "peak_memory_mb"), stat(p.mean, "events"),
+                          std::isfinite(p.error) ? num(p.error).c_str() : "–",
+                          std::isfinite(p.error_sd) ? num(p.error_sd).c_str() : "–", p.pareto ? "●" : "");
+            md += buf;
+        }
+        if (keys.empty() || !reference.count(scene)) continue;
+        // Which statistic is off: z (error, tolerance verdict) per statistic.
+        md += "\n| " + scene + ": z (error, within tolerance) | elements";
+        std::string rule = "\n|---|---:";
+        for (const std::string& k : keys) {
+            md += " | " + stat_title(k) + " (" + tolerance_text(k) + ")";
+            rule += "|---:";
+        }
+        md += " | within tolerance |" + rule + "|:-:|\n";
+        for (const Point& p : points) {
+            if (p.scene != scene) continue;
+            md += "| " + p.method + " | " + std::to_string(p.elements);
+            int within = 0, comparable = 0;
+            for (const std::string& k : keys) {
+                const auto e =
+                    std::find_if(p.errors.begin(), p.errors.end(), [&](const StatError& s) { return s.key == k; });
+                md += " | " + (e == p.errors.end() ? std::string("–") : error_cell(*e));
+                if (e != p.errors.end() && e->comparable) {
+                    ++comparable;
+                    within += e->within_tolerance ? 1 : 0;
+                }
+            }
+            md += " | " + (comparable > 0 ? std::to_string(within) + "/" + std::to_string(comparable) : "–") + " |\n";
+        }
     }
     md +=
         "\n#### Cost against element count: fitted slope of log(wall) on log(elements)\n\n| scene | method | slope |\n"
@@ -323,6 +553,13 @@ int study_command(const StudyArgs& args, std::ostream& out) {
     const std::vector<std::string> methods = args.methods.empty() ? study_methods() : args.methods;
     const std::vector<std::string> scenes = args.scenes.empty() ? study_scenes() : args.scenes;
     const int seeds = args.seeds > 0 ? args.seeds : args.quick ? 1 : 3;
+    // The reference's seeds: its σ is the error scale, so enough of them for a bootstrap band.
+    const int reference_seeds = args.seeds > 0 ? args.seeds : REFERENCE_SEEDS;
+    if (args.make_reference && reference_seeds < 2)
+        throw InputError("bench",
+                         "--make-reference --seeds " + std::to_string(reference_seeds)
+                             + " gives no seed spread, and the spread is the study's error scale",
+                         "use at least 2 seeds (default " + std::to_string(REFERENCE_SEEDS) + ")");
     const std::filesystem::path out_dir = args.out_dir.empty() ? std::filesystem::path("bench") : args.out_dir;
     const std::filesystem::path binary =
         args.binary.empty() ? std::filesystem::read_symlink("/proc/self/exe") : args.binary;
@@ -350,10 +587,13 @@ int study_command(const StudyArgs& args, std::ostream& out) {
     std::filesystem::remove(out_dir / ".write-check");
 
     if (args.make_reference) {
+        if (reference_seeds < REFERENCE_SEEDS)
+            log::warn("a reference over " + std::to_string(reference_seeds) + " seeds has an uncertain seed spread ("
+                      + std::to_string(REFERENCE_SEEDS) + " or more are recommended)");
         Reference made;
         for (const std::string& scene : scenes) {
             if (!scene_has_reference(scene)) continue;
-            const std::vector<StudyRun> runs = reference_runs(scene);
+            const std::vector<StudyRun> runs = reference_runs(scene, reference_seeds);
             const std::vector<Record> records = execute(runs, args, binary, work, [](std::vector<Record>&) {});
             std::vector<StatMap> stats;
             std::vector<long long> used;
@@ -382,10 +622,14 @@ int study_command(const StudyArgs& args, std::ostream& out) {
     for (const std::string& scene : scenes)
         if (scene_has_reference(scene) && !reference.count(scene))
             log::warn("no reference for scene '" + scene + "': its errors stay empty (crackle bench --make-reference)");
+        else if (scene_has_reference(scene) && reference.at(scene).seeds.size() < std::size_t(REFERENCE_SEEDS))
+            log::warn("the " + scene + " reference has " + std::to_string(reference.at(scene).seeds.size())
+                      + " seeds: its seed spread, the error scale, is uncertain (summary.md gives the bootstrap band; "
+                        "regenerate it with crackle bench --make-reference)");
     const std::vector<StudyRun> runs = study_plan(scenes, methods, seeds, args.quick);
     std::vector<Record> records = execute(runs, args, binary, work, [&](std::vector<Record>& so_far) {
         Record& last = so_far.back();
-        last.error = run_error(last, reference);
+        evaluate_run(last, reference);
         std::string csv = csv_header();
         for (const Record& r : so_far)
             csv += csv_row(r);
@@ -394,14 +638,15 @@ int study_command(const StudyArgs& args, std::ostream& out) {
     std::filesystem::remove_all(work, ec);
     const std::vector<Point> points = aggregate(records, reference);
     write_file_atomically(out_dir / "points.csv", points_csv(points));
-    const std::string md = summary_markdown(points);
+    const std::string md = summary_markdown(points, reference);
     write_file_atomically(out_dir / "summary.md", md);
     out << md;
     if (!python.empty()) {
         run_chart_script(python, "bench_charts",
                          {(out_dir / "runs.csv").string(), (out_dir / "points.csv").string(), out_dir.string()},
                          out_dir / "charts.log");
-        out << "\ncharts: " << (out_dir / "error_vs_time.png").string() << ", cost_vs_elements.png, time_shares.png\n";
+        out << "\ncharts: " << (out_dir / "error_vs_time.png").string()
+            << ", stat_errors.png, cost_vs_elements.png, time_shares.png\n";
     }
     return 0;
 }

@@ -3,7 +3,8 @@
 /// method at several resolutions and seeds on scenes with known answers; each run is a child
 /// `crackle simulate` process (its own wall time and peak memory, a time limit, a crash cannot
 /// end the study). Writes runs.csv (a row per run), points.csv (a row per method × resolution,
-/// seed-averaged) and the charts (scripts/bench_charts.py, matplotlib). docs/benchmarks.md
+/// seed-averaged), each with per-statistic errors in the reference's seed spreads and tolerance
+/// verdicts, summary.md and the charts (scripts/bench_charts.py, matplotlib). docs/benchmarks.md
 /// defines the scenes and error metrics.
 
 #include <filesystem>
@@ -18,7 +19,7 @@ struct StudyArgs {
     std::filesystem::path out_dir;    ///< where the CSVs and charts go
     std::vector<std::string> methods; ///< empty = all of study_methods()
     std::vector<std::string> scenes;  ///< empty = all of study_scenes()
-    int seeds = 0;                    ///< seeds per point; 0 = 3 (1 with --quick)
+    int seeds = 0;                    ///< per point: 0 = 3 (1 with --quick); of a made reference: 0 = 8
     bool make_reference = false;      ///< run the reference runs and write reference.json instead
     bool charts = true;               ///< draw the charts (needs python3 with matplotlib)
     double time_limit = 0;            ///< seconds per run; 0 = 600 (60 with --quick)

@@ -65,10 +65,10 @@ bool scene_has_reference(const std::string& scene) {
     return scene == "mud" || scene == "bark" || scene == "arrest";
 }
 
-std::vector<StudyRun> reference_runs(const std::string& scene) {
+std::vector<StudyRun> reference_runs(const std::string& scene, int seeds) {
     std::vector<StudyRun> runs;
     const long long elements = scene == "arrest" ? 16000 : 32000;
-    for (long long seed : {101, 102, 103, 104}) {
+    for (long long seed = 101; seed < 101 + seeds; ++seed) {
         StudyRun r;
         r.scene = scene;
         r.method = "reference";

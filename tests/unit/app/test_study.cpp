@@ -8,6 +8,7 @@
 #include "app/study_plan.hpp"
 #include "core/error.hpp"
 #include "core/json.hpp"
+#include "core/rng.hpp"
 #include "fracture/method.hpp"
 #include "io/png.hpp"
 #include "io/preset.hpp"
@@ -133,7 +134,202 @@ TEST_SUITE("app") {
         }
     }
 
-    TEST_CASE("study: the pattern distance is 0 at the reference, |z| for one statistic, and uses the floors") {
+    TEST_CASE("study: z divides by the reference's real seed spread, with no floor, and the tolerance is a separate "
+              "verdict") {
+        // Eight synthetic reference seeds with known values; every spread below is smaller than
+        // the legacy floors (5 % on logs, 0.03 on the T share, 0.01 on tortuosity).
+        const std::vector<double> crack = {76.9, 77.8, 76.5, 77.3, 77.0, 77.6, 76.8, 77.2};
+        const std::vector<double> t_share = {0.972, 0.968, 0.964, 0.966, 0.970, 0.965, 0.969, 0.967};
+        const std::vector<double> tortuosity = {1.0102, 1.0109, 1.0099, 1.0108, 1.0104, 1.0101, 1.0106, 1.0103};
+        std::vector<app::StatMap> runs;
+        for (std::size_t i = 0; i < crack.size(); ++i)
+            runs.push_back({{"crack_length_per_area", crack[i]},
+                            {"t_junction_fraction", t_share[i]},
+                            {"tortuosity", tortuosity[i]},
+                            {"fragments", 360.0 + double(i)}});
+        const app::SceneReference ref = app::make_scene_reference(
+            "cmd", 32000, {101, 102, 103, 104, 105, 106, 107, 108}, runs, app::reference_scales());
+        // The expected means and sample standard deviations, written out.
+        auto mean_sd = [](const std::vector<double>& v, bool log) {
+            double m = 0, ss = 0;
+            for (double x : v)
+                m += log ? std::log(x) : x;
+            m /= double(v.size());
+            for (double x : v)
+                ss += std::pow((log ? std::log(x) : x) - m, 2);
+            return std::make_pair(m, std::sqrt(ss / double(v.size() - 1)));
+        };
+        const auto [crack_log_mean, crack_sd] = mean_sd(crack, true);
+        const auto [t_mean, t_sd] = mean_sd(t_share, false);
+        const auto [tort_mean, tort_sd] = mean_sd(tortuosity, false);
+        REQUIRE(crack_sd < 0.05);
+        REQUIRE(t_sd < 0.03);
+        REQUIRE(tort_sd < 0.01);
+        CHECK(ref.stats.at("crack_length_per_area").mean == doctest::Approx(std::exp(crack_log_mean)));
+        CHECK(ref.stats.at("crack_length_per_area").spread == doctest::Approx(crack_sd));
+        CHECK(ref.stats.at("t_junction_fraction").spread == doctest::Approx(t_sd));
+        CHECK(ref.stats.at("tortuosity").spread == doctest::Approx(tort_sd));
+
+        // A run 2 spreads high in log crack density, 3 spreads high in tortuosity and 0.06 low in
+        // T share: z is exactly that, whatever the floors were.
+        const app::StatMap x = {{"crack_length_per_area", std::exp(crack_log_mean + 2 * crack_sd)},
+                                {"t_junction_fraction", t_mean - 0.06},
+                                {"tortuosity", tort_mean + 3 * tort_sd}};
+        const std::vector<std::string> keys = {"crack_length_per_area", "t_junction_fraction", "tortuosity"};
+        const auto errors = app::stat_errors(x, ref, keys);
+        REQUIRE(errors.size() == 3);
+        for (const auto& e : errors) {
+            CAPTURE(e.key);
+            CHECK(e.comparable);
+        }
+        CHECK(errors[0].z == doctest::Approx(2.0));
+        CHECK(errors[1].z == doctest::Approx(-0.06 / t_sd));
+        CHECK(errors[1].z < -10); // the legacy floor (0.03) would have said −2
+        CHECK(errors[2].z == doctest::Approx(3.0));
+        // Relative error for crack density, absolute for the others, and the tolerance verdicts:
+        // 5 % relative, 0.05 and 0.01 absolute.
+        CHECK(errors[0].error == doctest::Approx(std::exp(2 * crack_sd) - 1));
+        CHECK(errors[0].within_tolerance == (std::exp(2 * crack_sd) - 1 <= 0.05));
+        CHECK(errors[1].error == doctest::Approx(-0.06));
+        CHECK(!errors[1].within_tolerance);
+        CHECK(errors[2].error == doctest::Approx(3 * tort_sd));
+        CHECK(errors[2].within_tolerance);
+        CHECK(app::within_tolerance(errors) == 0);
+        // The overall error is the RMS of z over the comparable statistics.
+        CHECK(app::rms_z(errors) == doctest::Approx(std::sqrt((4.0 + std::pow(0.06 / t_sd, 2) + 9.0) / 3.0)));
+        // At the reference's means every z is 0 and every statistic within tolerance.
+        const app::StatMap at_mean = {{"crack_length_per_area", std::exp(crack_log_mean)},
+                                      {"t_junction_fraction", t_mean},
+                                      {"tortuosity", tort_mean}};
+        CHECK(app::rms_z(app::stat_errors(at_mean, ref, keys)) == doctest::Approx(0.0).epsilon(1e-12));
+        CHECK(app::within_tolerance(app::stat_errors(at_mean, ref, keys)) == 1);
+
+        // The tolerance table names every compared statistic, each once.
+        for (const auto& k : app::error_statistics()) {
+            CAPTURE(k);
+            REQUIRE(app::find_tolerance(k) != nullptr);
+            CHECK(app::find_tolerance(k)->value > 0);
+        }
+        CHECK(app::find_tolerance("crack_length_per_area")->kind == app::ToleranceKind::Relative);
+        CHECK(app::find_tolerance("t_junction_fraction")->value == 0.05);
+        CHECK(app::find_tolerance("tortuosity")->value == 0.01);
+
+        // The reference survives its JSON, bootstrap band included (recomputed, the same).
+        const app::Reference back =
+            app::reference_from_json(Json::parse(app::reference_to_json({{"mud", ref}}).dump(), "ref"), "ref");
+        const auto& t_back = back.at("mud").stats.at("t_junction_fraction");
+        CHECK(t_back.values == t_share);
+        CHECK(t_back.spread == doctest::Approx(t_sd));
+        CHECK(t_back.spread_low == ref.stats.at("t_junction_fraction").spread_low);
+        CHECK(t_back.spread_high == ref.stats.at("t_junction_fraction").spread_high);
+        CHECK(app::stat_errors(x, back.at("mud"), keys)[2].z == doctest::Approx(3.0));
+
+        // The stored reference: mud's real spreads are below the old floors, so a mud run 0.01 off
+        // in tortuosity is about 20 spreads off, not 1.
+        const app::Reference stored = app::embedded_reference();
+        REQUIRE(stored.count("mud"));
+        const auto& mud = stored.at("mud");
+        const double tort_spread = mud.stats.at("tortuosity").spread;
+        CHECK(tort_spread < 0.002);
+        const auto off =
+            app::stat_errors({{"tortuosity", mud.stats.at("tortuosity").mean + 0.01}}, mud, {"tortuosity"});
+        CHECK(off.front().z == doctest::Approx(0.01 / tort_spread));
+        CHECK(off.front().z > 5);
+    }
+
+    TEST_CASE("study: the bootstrap seed spread is deterministic and close to the sample sigma") {
+        // A known sample: 40 normal deviates of σ = 2 (the test stream of crackle::Rng).
+        Rng rng(7, RngStream::Test);
+        std::vector<double> v(40);
+        for (double& x : v)
+            x = 5 + 2 * rng.normal();
+        double m = 0, ss = 0;
+        for (double x : v)
+            m += x;
+        m /= double(v.size());
+        for (double x : v)
+            ss += (x - m) * (x - m);
+        const double sigma = std::sqrt(ss / double(v.size() - 1));
+        const app::SpreadEstimate a = app::bootstrap_spread(v), b = app::bootstrap_spread(v);
+        CHECK(a.sigma == doctest::Approx(sigma));
+        // Deterministic: bit for bit the same band on a second call.
+        CHECK(a.low == b.low);
+        CHECK(a.high == b.high);
+        // The band brackets the sample σ and is about ±σ/√(2(n − 1)) wide (±11 % for n = 40).
+        CHECK(a.low < sigma);
+        CHECK(a.high > sigma);
+        CHECK(0.5 * (a.low + a.high) == doctest::Approx(sigma).epsilon(0.1));
+        const double half_width = 0.5 * (a.high - a.low) / sigma;
+        CAPTURE(half_width);
+        CHECK(half_width > 0.05);
+        CHECK(half_width < 0.2);
+        // Nothing to resample: no spread and no band.
+        const app::SpreadEstimate constant = app::bootstrap_spread({1.01, 1.01, 1.01, 1.01});
+        CHECK(constant.sigma == 0);
+        CHECK(constant.high == 0);
+        CHECK(app::bootstrap_spread({3.0}).sigma == 0);
+        // The stored reference's bands hold its spreads.
+        for (const auto& [scene, ref] : app::embedded_reference())
+            for (const auto& [key, st] : ref.stats) {
+                CAPTURE(scene);
+                CAPTURE(key);
+                CHECK(st.spread_low <= st.spread_high);
+                if (st.spread > 0) CHECK(st.spread_high > 0);
+            }
+    }
+
+    TEST_CASE("study: a statistic the reference cannot scale is reported not comparable, not divided by a floor") {
+        // Every seed agrees on the tortuosity; one piece per run.
+        std::vector<app::StatMap> runs;
+        for (double t : {0.90, 0.95, 0.97, 0.92})
+            runs.push_back({{"t_junction_fraction", t},
+                            {"tortuosity", 1.01},
+                            {"fragments", 1.0},
+                            {"mean_fragment_area", 0.25},
+                            {"fragment_area_cv", t - 0.9}});
+        const app::SceneReference ref =
+            app::make_scene_reference("cmd", 1000, {1, 2, 3, 4}, runs, app::reference_scales());
+        const app::StatMap x = {
+            {"t_junction_fraction", 0.93}, {"tortuosity", 1.2}, {"mean_fragment_area", 0.1}, {"fragment_area_cv", 0.5}};
+        const auto errors = app::stat_errors(x, ref, app::compared_statistics("mud"));
+        REQUIRE(errors.size() == 6);
+        std::map<std::string, app::StatError> by_key;
+        for (const auto& e : errors)
+            by_key[e.key] = e;
+        CHECK(!by_key.at("tortuosity").comparable);
+        CHECK(by_key.at("tortuosity").why_not.find("no seed spread") != std::string::npos);
+        CHECK(std::isnan(by_key.at("tortuosity").z));
+        // Fragment statistics over one piece per run are not pattern statistics.
+        for (const char* k : {"mean_fragment_area", "fragment_area_cv"}) {
+            CAPTURE(std::string(k));
+            CHECK(!by_key.at(k).comparable);
+            CHECK(by_key.at(k).why_not.find("fragments") != std::string::npos);
+        }
+        // Not in x or the reference: not comparable either.
+        CHECK(!by_key.at("crack_length_per_area").comparable);
+        CHECK(!by_key.at("anisotropy").comparable);
+        // Only the T share is compared: the overall error is its |z|.
+        REQUIRE(by_key.at("t_junction_fraction").comparable);
+        CHECK(app::rms_z(errors) == doctest::Approx(std::abs(by_key.at("t_junction_fraction").z)));
+        // With nothing comparable there is no error and no verdict.
+        const auto none = app::stat_errors({{"tortuosity", 1.2}}, ref, {"tortuosity"});
+        CHECK(std::isnan(app::rms_z(none)));
+        CHECK(app::within_tolerance(none) == -1);
+        // The stored bark reference (1–2 fragments per run): its fragment statistics are not
+        // comparable, its other four are.
+        const app::Reference stored = app::embedded_reference();
+        const app::SceneReference& bark = stored.at("bark");
+        app::StatMap bark_means;
+        for (const auto& [k, st] : bark.stats)
+            bark_means[k] = st.mean;
+        for (const auto& e : app::stat_errors(bark_means, bark, app::compared_statistics("bark"))) {
+            CAPTURE(e.key);
+            CHECK(e.comparable == (e.key.find("fragment") == std::string::npos));
+        }
+    }
+
+    TEST_CASE("study: the legacy floored distance (bench scale, bench speedup) is 0 at the reference, |z| for one "
+              "statistic, and uses the floors") {
         const auto scales = app::pattern_scales("mud");
         std::vector<app::StatMap> runs = {
             {{"crack_length_per_area", 70.0}, {"t_junction_fraction", 0.88}, {"tortuosity", 1.02}},
@@ -264,6 +460,19 @@ TEST_SUITE("app") {
         CHECK(!fs::exists(out / "b"));
         r = test::run_cli({"bench", "--seeds", "0", "--no-charts"});
         CHECK(r.code == 2);
+        // A reference needs a seed spread: one seed is refused before anything runs.
+        r = test::run_cli(
+            {"bench", "--make-reference", "--seeds", "1", "--scenes", "mud", "--out", (out / "d").string()});
+        CHECK(r.code == 2);
+        CHECK(r.err.find("at least 2 seeds") != std::string::npos);
+        CHECK(!fs::exists(out / "d"));
+        // The reference's seeds: 101, 102, … (8 by default), the first four those of the earlier
+        // four-seed references.
+        const auto ref_runs = app::reference_runs("mud", app::REFERENCE_SEEDS);
+        REQUIRE(ref_runs.size() == 8);
+        for (std::size_t i = 0; i < ref_runs.size(); ++i)
+            CHECK(ref_runs[i].seed == 101 + static_cast<long long>(i));
+        CHECK(ref_runs.front().elements == 32000);
         // bench speedup needs a baseline it can run, and says how to build one.
         r = test::run_cli(
             {"bench", "speedup", "--baseline", (out / "no-such-crackle").string(), "--out", (out / "c").string()});
@@ -274,7 +483,8 @@ TEST_SUITE("app") {
         CHECK(r.code == 2);
     }
 
-    TEST_CASE("study: the quick study writes a row per planned run, seed-averaged points, and three charts") {
+    TEST_CASE("study: the quick study writes a row per planned run with per-statistic errors, seed-averaged points, "
+              "a summary that says which statistic is off, and four charts") {
         const fs::path out = test::scratch_dir("study-quick");
         const std::string cmd = std::string(CRACKLE_BINARY) + " -q bench --quick --out '" + out.string() + "' > '"
                                 + (out.parent_path() / "study-quick.log").string() + "' 2>&1";
@@ -301,7 +511,70 @@ TEST_SUITE("app") {
         CHECK(per_scene.size() == app::study_scenes().size());
         const auto points = read_csv(out / "points.csv");
         CHECK(points.size() * 1 == runs.size()); // one seed each
-        for (const char* chart : {"error_vs_time.png", "cost_vs_elements.png", "time_shares.png"}) {
+
+        // Per-statistic columns: z, the relative or absolute error, the tolerance verdict.
+        const app::Reference reference = app::embedded_reference();
+        for (const auto* table : {&runs, &points}) {
+            REQUIRE(!table->empty());
+            const auto& header = table->front();
+            for (const auto& k : app::error_statistics()) {
+                CAPTURE(k);
+                CHECK(header.count("z_" + k));
+                CHECK(header.count("within_tol_" + k));
+                const bool relative = app::find_tolerance(k)->kind == app::ToleranceKind::Relative;
+                CHECK(header.count((relative ? "rel_err_" : "abs_err_") + k));
+                CHECK(header.count((relative ? "abs_err_" : "rel_err_") + k) == 0);
+            }
+            for (const char* c : {"z_rms", "within_tolerance", "not_comparable", "error"})
+                CHECK(header.count(c));
+        }
+        CHECK(points.front().count("z_tortuosity_sd"));
+        CHECK(points.front().count("error_sd"));
+        int mud_rows = 0;
+        for (const auto* table : {&runs, &points})
+            for (const auto& row : *table) {
+                if (row.at("scene") != "mud" && row.at("scene") != "bark") continue;
+                CAPTURE(row.at("scene"));
+                CAPTURE(row.at("method"));
+                CAPTURE(row.at("elements"));
+                const auto& ref = reference.at(row.at("scene"));
+                // z and the relative error recomputed from the row's own crack density (CSV: 6 digits).
+                const double x = std::stod(row.at("crack_length_per_area"));
+                const auto& c = ref.stats.at("crack_length_per_area");
+                REQUIRE(x > 0);
+                CHECK(std::stod(row.at("z_crack_length_per_area"))
+                      == doctest::Approx((std::log(x) - std::log(c.mean)) / c.spread).epsilon(1e-3));
+                CHECK(std::stod(row.at("rel_err_crack_length_per_area"))
+                      == doctest::Approx(x / c.mean - 1).epsilon(1e-4));
+                const double t = std::stod(row.at("t_junction_fraction"));
+                const auto& ts = ref.stats.at("t_junction_fraction");
+                CHECK(std::stod(row.at("z_t_junction_fraction"))
+                      == doctest::Approx((t - ts.mean) / ts.spread).epsilon(1e-3));
+                CHECK(row.at("within_tol_t_junction_fraction") == (std::abs(t - ts.mean) <= 0.05 ? "1" : "0"));
+                // The error is the RMS of the comparable z.
+                double sum = 0;
+                int n = 0;
+                for (const auto& k : app::compared_statistics(row.at("scene")))
+                    if (!row.at("z_" + k).empty()) {
+                        sum += std::pow(std::stod(row.at("z_" + k)), 2);
+                        ++n;
+                    }
+                REQUIRE(n > 0);
+                CHECK(std::stod(row.at("error")) == doctest::Approx(std::sqrt(sum / n)).epsilon(1e-4));
+                CHECK(row.at("z_arrest_height").empty());
+                if (row.at("scene") == "bark") { // 1–2 reference fragments: not comparable
+                    CHECK(row.at("z_mean_fragment_area").empty());
+                    CHECK(row.at("not_comparable").find("mean_fragment_area") != std::string::npos);
+                } else {
+                    ++mud_rows;
+                    CHECK(!row.at("z_mean_fragment_area").empty());
+                }
+            }
+        CHECK(mud_rows > 0);
+        for (const auto& row : runs)
+            if (row.at("scene") == "arrest") CHECK(!row.at("z_arrest_height").empty());
+
+        for (const char* chart : {"error_vs_time.png", "stat_errors.png", "cost_vs_elements.png", "time_shares.png"}) {
             CAPTURE(chart);
             const std::string bytes = test::slurp(out / chart);
             REQUIRE(bytes.size() > 1000);
@@ -315,6 +588,11 @@ TEST_SUITE("app") {
                 if (rgb[i] < 200 || rgb[i + 1] < 200 || rgb[i + 2] < 200) ++inked;
             CHECK(double(inked) / double(w * h) > 0.01);
         }
-        CHECK(test::slurp(out / "summary.md").find("| mud | graph-fem |") != std::string::npos);
+        const std::string summary = test::slurp(out / "summary.md");
+        CHECK(summary.find("| mud | graph-fem |") != std::string::npos);
+        CHECK(summary.find("z = 1 is one seed spread of a single run") != std::string::npos);
+        CHECK(summary.find("| mud: z (error, within tolerance) | elements | crack length per area (5 %) |")
+              != std::string::npos);
+        CHECK(summary.find("| bark | mean fragment area (n/c: ") != std::string::npos);
     }
 }
