@@ -34,6 +34,14 @@ KeySpec integer_or_auto(std::string section, std::string key, std::string unit, 
     return s;
 }
 
+KeySpec number_or_auto(std::string section, std::string key, std::string unit, double lo, double hi,
+                       std::string description) {
+    KeySpec s = number(std::move(section), std::move(key), 0, std::move(unit), lo, hi, std::move(description));
+    s.default_value = std::string("auto");
+    s.allows_auto = true;
+    return s;
+}
+
 KeySpec choice(std::string section, std::string key, std::string def, std::vector<std::string> choices,
                std::string description) {
     KeySpec s;

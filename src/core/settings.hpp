@@ -27,7 +27,7 @@ struct KeySpec {
     std::vector<std::string> choices;   ///< Enum values
     int min_length = 0, max_length = 0; ///< FloatArray lengths
     std::string group;                  ///< who reads it, within its section ("" = everyone; "fem-split")
-    bool allows_auto = false;           ///< an Int key that also takes the string "auto"
+    bool allows_auto = false;           ///< a numeric key that also takes the string "auto"
 
     std::string name() const { return section + "." + key; }
 };
@@ -41,6 +41,9 @@ KeySpec integer(std::string section, std::string key, std::int64_t def, std::str
 /// An integer key that also takes "auto" (the program chooses; Settings::is_auto).
 KeySpec integer_or_auto(std::string section, std::string key, std::string unit, double lo, double hi,
                         std::string description);
+/// A number key that also takes "auto", its default.
+KeySpec number_or_auto(std::string section, std::string key, std::string unit, double lo, double hi,
+                       std::string description);
 KeySpec choice(std::string section, std::string key, std::string def, std::vector<std::string> choices,
                std::string description);
 KeySpec array(std::string section, std::string key, std::vector<double> def, int min_len, int max_len, std::string unit,
@@ -59,7 +62,8 @@ public:
     virtual bool flag(const std::string& key) const = 0;
     virtual const std::string& text(const std::string& key) const = 0;
     virtual const std::vector<double>& numbers(const std::string& key) const = 0;
-    /// True when an integer_or_auto key holds "auto" (integer() must not be asked then).
+    /// True when an integer_or_auto or number_or_auto key holds "auto" (integer() and number()
+    /// must not be asked then).
     virtual bool is_auto(const std::string& key) const = 0;
 };
 

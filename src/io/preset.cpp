@@ -179,6 +179,7 @@ std::string type_name(const toml::node& node) {
 std::string example_of(const KeySpec& spec) {
     switch (spec.type) {
     case ValueType::Float:
+        if (spec.allows_auto) return "\"auto\" or a number such as 0.005";
         return "a number such as " + to_toml(spec.default_value);
     case ValueType::Int:
         if (spec.allows_auto) return "\"auto\" or a whole number such as 8000";
@@ -205,6 +206,12 @@ Value convert(const KeySpec& spec, const toml::node& node, const std::string& wh
     case ValueType::Float:
         if (node.is_floating_point()) return *node.value<double>();
         if (node.is_integer()) return static_cast<double>(*node.value<std::int64_t>());
+        if (spec.allows_auto && node.is_string()) {
+            if (*node.value<std::string>() == "auto") return std::string("auto");
+            throw InputError(
+                where, spec.name() + " must be " + example_of(spec) + ", not \"" + *node.value<std::string>() + "\"",
+                "write " + example_of(spec));
+        }
         throw mismatch();
     case ValueType::Int:
         if (node.is_integer()) return *node.value<std::int64_t>();

@@ -58,6 +58,15 @@ std::vector<KeySpec> build_schema() {
                        "a calibration knob, see docs). Higher = cracks stop sooner: shorter, more separate "
                        "fissures.",
                        true));
+    s.push_back(keys::number_or_auto(
+        "material", "initiation_length", "m", 0.0, 100.0,
+        "The stress that starts a new crack is the top stress averaged over a disc of this radius (quartic "
+        "bell weight, along the surface, not across cracks): a crack opens through the whole layer, so a "
+        "peak narrower than about the layer cannot start one (the material's critical distance). In "
+        "metres, so refining the mesh keeps the physics; where elements are larger than it, a node "
+        "averages over its own elements, as the thesis does. \"auto\" = the local layer thickness; 0 = "
+        "the thesis' nodal stress (§5.7.1), which sees higher peaks at crack tips on finer meshes "
+        "(docs/accuracy.md). fem-split."));
     s.push_back(array("material", "thickness", {0.01, 0.01}, 2, 2, "m", 0.0, 100.0,
                       "Layer thickness [start, end], linear along v (the trunk's axis). Thicker layers give "
                       "fewer, wider cracks and larger plates (Fig. 5.29).",
@@ -353,6 +362,10 @@ std::string check_value(const KeySpec& spec, const Value& value) {
     std::ostringstream os;
     switch (spec.type) {
     case ValueType::Float:
+        if (spec.allows_auto && std::holds_alternative<std::string>(value)) {
+            if (std::get<std::string>(value) != "auto") os << "must be \"auto\" or a number";
+            break;
+        }
         if (!in_range(std::get<double>(value))) os << "must be in " << range_text(spec);
         break;
     case ValueType::Int:

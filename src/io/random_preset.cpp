@@ -38,6 +38,7 @@ const std::map<std::string, std::pair<double, double>>& practical_ranges() {
     static const std::map<std::string, std::pair<double, double>> ranges{
         {"surface.size", {0.02, 5.0}},
         {"material.thickness", {1e-4, 0.2}},
+        {"material.initiation_length", {0.0, 0.05}},
         {"material.pattern_scale", {0.0, 1.0}}, // sets the thickness: spacing / 1 m ≈ a thickness of 0.2 m
         {"simulation.duration", {0.01, 20.0}},
     };

@@ -116,7 +116,7 @@ Splitter::Start Splitter::start_fracture(std::size_t v, double ratio, Event& ev)
     // Fine elements around the node first (§5.7.6); its stress is then looked at again.
     if (refine_vicinity(v)) return Start::Refined;
     Timer timer;
-    const NodalStress ns = nodal_from(m_model, v, [&](std::size_t f) { return m_cache.stress(f); });
+    const NodalStress ns = node_stress(v);
     std::vector<FaceId> touched;
     const Vec3 p0 = m_model.mesh().positions[vertex_id(v)];
     // Both ways from the node (§5.7.2): two straddling elements, two new tips.
@@ -159,7 +159,7 @@ bool Splitter::extend_tip(std::size_t tip, Event& ev) {
         m_tips.push_front(tip); // look again, on the finer mesh
         return false;
     }
-    const NodalStress ns = nodal_from(m_model, tip, [&](std::size_t f) { return m_cache.stress(f); });
+    const NodalStress ns = node_stress(tip);
     if (ns.threshold <= 0) return false;
     if (!m_split.griffith && ns.ratio < 1.0) {
         // Without Griffith's test a tip runs on its stress alone: below threshold it waits for

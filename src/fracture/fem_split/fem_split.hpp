@@ -41,6 +41,12 @@ struct SplitOptions {
     /// The crack direction at a tip from a temporary local sub-model refined this many times
     /// (each halving the element size) around it (§5.7.8); nothing of it stays. 0: off.
     int tip_submodel_levels = 0;
+    /// The stress a new fracture starts from, averaged over this radius along the surface (m;
+    /// fem_split/nonlocal.hpp): 0 = the thesis' nodal stress (§5.7.1), which sees sharper peaks on
+    /// finer meshes. With `initiation_fraction` > 0 the radius is that share of the local layer
+    /// thickness instead (material.initiation_length = "auto": 1).
+    double initiation_length = 0;
+    double initiation_fraction = 0;
     /// Check the mesh invariants (check_split_invariants) after every topology change and
     /// throw InvariantError on the first violation: O(mesh) per event, for tests and debugging.
     bool check_invariants = false;

@@ -20,6 +20,16 @@ NodeFrame node_frame(const sim::FemModel& model, std::size_t v) {
     return node_frame(model, v, G, G.inverse());
 }
 
+NodalStress principal_of(const sim::FemModel& model, std::size_t v, const Mat3& sigma, NodalStress means) {
+    const NodeFrame fr = node_frame(model, v);
+    Eigen::SelfAdjointEigenSolver<Mat2> eig(project(fr, sigma));
+    const Vec2 d = eig.eigenvectors().col(1);
+    const Vec3 normal_dir = d.x() * fr.e1 + d.y() * fr.e2;
+    means.ratio = eig.eigenvalues()[1] / means.threshold;
+    means.crack = (fr.G_inv * fr.n.cross(normal_dir)).normalized();
+    return means;
+}
+
 NodeFrame node_frame(const sim::FemModel& model, std::size_t v, const Mat3& G, const Mat3& G_inv) {
     const Vec3& p0 = model.mesh().positions[vertex_id(v)];
     const mesh::TangentFrame fr = model.surface().frame(p0);

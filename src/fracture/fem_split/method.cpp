@@ -1,8 +1,12 @@
 // fem-split as a fracture method: its [simulation] keys, its options, its run and report.
 #include "fracture/method.hpp"
 
+#include "core/error.hpp"
+#include "core/math.hpp"
 #include "fracture/fem_split/fem_split.hpp"
 #include "fracture/toolkit/fem_method.hpp"
+
+#include <sstream>
 
 namespace crackle::fracture {
 
@@ -15,6 +19,10 @@ SplitOptions split_options(const Settings& s) {
     o.vm_threshold = s.number("simulation.vm_threshold");
     o.tip_submodel_levels = static_cast<int>(s.integer("simulation.tip_submodel"));
     o.check_invariants = s.flag("simulation.check_invariants");
+    if (s.is_auto("material.initiation_length"))
+        o.initiation_fraction = 1.0;
+    else
+        o.initiation_length = s.number("material.initiation_length");
     return o;
 }
 
@@ -26,6 +34,7 @@ public:
 
     MethodResult run(const MethodInputs& in, StepTimes& times) override {
         return run_on_wedge_layer(in, times, [&](sim::FemModel& model, Rng& rng, MethodResult& r) {
+            check_initiation_length(model);
             SplitStats c;
             r.pattern = run_fem_split(model, in.options, m_options, rng, &r.run, &c);
             Json& d = r.details;
@@ -50,6 +59,26 @@ public:
     }
 
 private:
+    /// The averaging disc's elements grow with its radius squared (work and memory per node):
+    /// refuse a radius past about 2000 elements at this resolution, naming the largest that fits.
+    void check_initiation_length(const sim::FemModel& model) const {
+        constexpr double MAX_NEIGHBOURS = 2000;
+        const double face_area =
+            model.mesh().total_area() / static_cast<double>(std::max<std::size_t>(model.mesh().num_faces(), 1));
+        double radius = m_options.initiation_length;
+        if (m_options.initiation_fraction > 0)
+            for (std::size_t v = 0; v < model.mesh().num_vertices(); ++v)
+                radius = std::max(radius, m_options.initiation_fraction * model.vertex_thickness(mesh::vertex_id(v)));
+        const double neighbours = std::min(PI * sqr(radius) / face_area, static_cast<double>(model.mesh().num_faces()));
+        if (neighbours <= MAX_NEIGHBOURS) return;
+        std::ostringstream what, fix;
+        what << "an initiation length of " << radius << " m averages each node's stress over about "
+             << static_cast<long>(neighbours) << " elements (work and memory grow with that number)";
+        fix << "use at most " << std::sqrt(MAX_NEIGHBOURS * face_area / PI)
+            << " m at this resolution (about the layer's thickness is the physical range), or fewer elements";
+        throw InputError("material.initiation_length", what.str(), fix.str());
+    }
+
     SplitOptions m_options;
 };
 

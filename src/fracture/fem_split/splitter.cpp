@@ -4,6 +4,7 @@
 #include "core/error.hpp"
 #include "core/progress.hpp"
 #include "core/timer.hpp"
+#include "fracture/fem_split/nonlocal.hpp"
 #include "fracture/toolkit/next_crossing.hpp"
 #include "fracture/toolkit/pick.hpp"
 
@@ -24,12 +25,51 @@ std::vector<std::size_t> Splitter::relax_near(const std::vector<FaceId>& faces, 
                               released);
 }
 
+Splitter::~Splitter() = default;
+
+Splitter::Splitter(sim::FemModel& model, const FractureOptions& options, const SplitOptions& split, Rng& rng,
+                   RunStats& stats, SplitStats& counts)
+    : m_model(model), m_options(options), m_split(split), m_rng(rng), m_stats(stats), m_counts(counts),
+      m_cache(model, false), m_events(options) {
+    double h = 0;
+    for (std::size_t v = 0; v < model.mesh().num_vertices(); ++v)
+        h += model.vertex_thickness(vertex_id(v));
+    h /= static_cast<double>(std::max<std::size_t>(model.mesh().num_vertices(), 1));
+    m_exclusion = split.exclusion_radius >= 0 ? split.exclusion_radius : h;
+    m_smoothing =
+        split.smoothing_radius >= 0 ? split.smoothing_radius : 1.5 * mesh::mesh_quality(model.mesh()).edge_mean;
+    m_local.tolerance = options.local_tolerance;
+    m_radius = initial_radius(model, m_local.tolerance);
+    m_rate_radius = m_radius;
+    make_nonlocal();
+}
+
+void Splitter::make_nonlocal() {
+    if (m_split.initiation_length <= 0 && m_split.initiation_fraction <= 0) return;
+    const double length = m_split.initiation_length, fraction = m_split.initiation_fraction;
+    m_nonlocal = std::make_unique<NonlocalStress>(m_model, [this, length, fraction](std::size_t v) {
+        return fraction > 0 ? fraction * m_model.vertex_thickness(vertex_id(v)) : length;
+    });
+}
+
+NodalStress Splitter::node_stress(std::size_t v) const {
+    auto cached = [&](std::size_t f) -> const sim::TopStress& { return m_cache.stress(f); };
+    return m_nonlocal ? m_nonlocal->nodal(v, cached) : nodal_from(m_model, v, cached);
+}
+
 void Splitter::refresh_after(const std::vector<FaceId>& touched, const std::vector<std::size_t>& moved) {
     Timer timer;
     m_cache.resize();
     for (FaceId f : touched)
         m_cache.refresh(ix(f));
     m_cache.refresh_around(moved);
+    if (m_nonlocal) {
+        // New and changed faces (cracks block the walks now): rebuild the neighbourhoods that
+        // held them, and look at those nodes again.
+        m_node_dirty.resize(m_model.mesh().num_vertices(), 1);
+        for (std::size_t v : m_nonlocal->rebuild_around(touched))
+            m_node_dirty[v] = 1;
+    }
     m_stats.stress_seconds += timer.seconds();
 }
 
@@ -55,13 +95,17 @@ void Splitter::update_node_ratios() {
     m_node_dirty.resize(nv, 1);
     if (all) std::fill(m_node_dirty.begin(), m_node_dirty.end(), 1);
     for (std::uint32_t f : faces)
-        if (f < m_model.mesh().num_faces())
+        if (f < m_model.mesh().num_faces()) {
             for (VertexId w : m_model.mesh().faces[face_id(f)].v)
                 m_node_dirty[ix(w)] = 1;
+            if (m_nonlocal)
+                for (std::uint32_t v : m_nonlocal->readers(f))
+                    if (v < nv) m_node_dirty[v] = 1;
+        }
     for (std::size_t v = 0; v < nv; ++v) {
         if (!m_node_dirty[v]) continue;
         m_node_dirty[v] = 0;
-        m_node_ratio[v] = nodal_from(m_model, v, [&](std::size_t f) { return m_cache.stress(f); }).ratio;
+        m_node_ratio[v] = node_stress(v).ratio;
     }
 }
 
@@ -114,11 +158,15 @@ void Splitter::advance_time() {
         if (m_model.incident_faces(v).empty()) continue;
         NodalStress means;
         Mat3 s0, s1;
-        if (!nodal_tensor(
-                m_model, v, [&](std::size_t f) -> const sim::TopStress& { return m_cache.stress(f); }, s0, means))
-            continue;
-        nodal_tensor(
-            m_model, v, [&](std::size_t f) -> const sim::TopStress& { return m_cache.rate(f); }, s1, means);
+        auto stress = [&](std::size_t f) -> const sim::TopStress& { return m_cache.stress(f); };
+        auto rate = [&](std::size_t f) -> const sim::TopStress& { return m_cache.rate(f); };
+        if (m_nonlocal) {
+            if (!m_nonlocal->tensor(v, stress, s0, means)) continue;
+            m_nonlocal->tensor(v, rate, s1, means);
+        } else {
+            if (!nodal_tensor(m_model, v, stress, s0, means)) continue;
+            nodal_tensor(m_model, v, rate, s1, means);
+        }
         const NodeFrame fr = node_frame(m_model, v, G, G_inv);
         lines.push_back({v, project(fr, s0), project(fr, s1), means.threshold});
     }
@@ -152,6 +200,7 @@ EventLog& Splitter::run() {
         m_stats.solve_seconds += timer.seconds();
         timer.reset();
         m_cache.refresh_all();
+        if (m_nonlocal) m_nonlocal->rebuild_all();
         m_stats.stress_seconds += timer.seconds();
         m_stats.setup_seconds = setup.seconds();
     }

@@ -10,6 +10,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <deque>
+#include <memory>
 #include <utility>
 #include <vector>
 
@@ -67,6 +68,11 @@ bool nodal_tensor(const sim::FemModel& model, std::size_t v, StressOf&& stress_o
     return true;
 }
 
+/// The in-surface principal stress of a node's stress tensor (§5.7.2): the largest eigenvalue of
+/// the projected tensor over the threshold in `means`, and the crack direction normal to it (in
+/// the plane), mapped back to t = 0 by the inverse growth map.
+NodalStress principal_of(const sim::FemModel& model, std::size_t v, const Mat3& sigma, NodalStress means);
+
 /// The in-surface principal stress of a node (§5.7.1–5.7.2): the largest eigenvalue of the
 /// projected tensor over the threshold, and the crack direction normal to it (in the plane),
 /// mapped back to t = 0 by the inverse growth map.
@@ -74,13 +80,7 @@ template <class StressOf> NodalStress nodal_from(const sim::FemModel& model, std
     NodalStress out;
     Mat3 sigma;
     if (!nodal_tensor(model, v, stress_of, sigma, out)) return out;
-    const NodeFrame fr = node_frame(model, v);
-    Eigen::SelfAdjointEigenSolver<Mat2> eig(project(fr, sigma));
-    const Vec2 d = eig.eigenvectors().col(1);
-    const Vec3 normal_dir = d.x() * fr.e1 + d.y() * fr.e2;
-    out.ratio = eig.eigenvalues()[1] / out.threshold;
-    out.crack = (fr.G_inv * fr.n.cross(normal_dir)).normalized();
-    return out;
+    return principal_of(model, v, sigma, out);
 }
 
 /// 2D coordinates of a face's corners around one of its corners, in the frame of the surface
@@ -111,24 +111,14 @@ bool on_border(const sim::FemModel& model, std::size_t v);
 /// directions, not end points).
 bool is_tip(const sim::FemModel& model, std::size_t v);
 
+class NonlocalStress;
+
 /// The loop's state.
 class Splitter {
 public:
     Splitter(sim::FemModel& model, const FractureOptions& options, const SplitOptions& split, Rng& rng, RunStats& stats,
-             SplitStats& counts)
-        : m_model(model), m_options(options), m_split(split), m_rng(rng), m_stats(stats), m_counts(counts),
-          m_cache(model, false), m_events(options) {
-        double h = 0;
-        for (std::size_t v = 0; v < model.mesh().num_vertices(); ++v)
-            h += model.vertex_thickness(vertex_id(v));
-        h /= static_cast<double>(std::max<std::size_t>(model.mesh().num_vertices(), 1));
-        m_exclusion = split.exclusion_radius >= 0 ? split.exclusion_radius : h;
-        m_smoothing =
-            split.smoothing_radius >= 0 ? split.smoothing_radius : 1.5 * mesh::mesh_quality(model.mesh()).edge_mean;
-        m_local.tolerance = options.local_tolerance;
-        m_radius = initial_radius(model, m_local.tolerance);
-        m_rate_radius = m_radius;
-    }
+             SplitStats& counts);
+    ~Splitter();
 
     /// Runs to the end; returns the event log.
     EventLog& run();
@@ -180,6 +170,10 @@ private:
     /// Throws InvariantError if a topology change broke the mesh (SplitOptions::check_invariants).
     void check(const char* after) const;
     bool pick_node(std::size_t& node, double& ratio);
+    /// The stress a node's criterion reads: averaged over simulation's initiation length
+    /// (nonlocal.hpp), or the thesis' nodal average (§5.7.1).
+    NodalStress node_stress(std::size_t v) const;
+    void make_nonlocal();
     void update_node_ratios();
     void advance_time();
 
@@ -201,6 +195,7 @@ private:
     bool m_in_trial = false;          ///< a Griffith trial is open: its relaxation may still be undone
     std::vector<double> m_node_ratio; // nodal ratio per vertex, valid where not dirty
     std::vector<char> m_node_dirty;
+    std::unique_ptr<NonlocalStress> m_nonlocal; // null: the thesis' nodal stress
 };
 
 } // namespace crackle::fracture::split_detail
