@@ -143,6 +143,13 @@ Splitter::Start Splitter::start_fracture(std::size_t v, double ratio, Event& ev)
     for (std::size_t e : ends)
         if (is_tip(m_model, e)) {
             m_tips.push_back(e);
+            // The nucleus (nonlocal.hpp): a crack starts as long as the stress was averaged over;
+            // until each arm is half that long its tips extend without the energy test.
+            if (m_nonlocal) {
+                const double arm = (m_model.mesh().positions[vertex_id(e)] - p0).norm();
+                const double rest = 0.5 * nucleus_length(v) - arm;
+                if (rest > 0) m_nucleus[e] = rest;
+            }
             smooth_near(e);
         }
     ev.time = m_model.time();
@@ -161,7 +168,13 @@ bool Splitter::extend_tip(std::size_t tip, Event& ev) {
     }
     const NodalStress ns = node_stress(tip);
     if (ns.threshold <= 0) return false;
-    if (!m_split.griffith && ns.ratio < 1.0) {
+    // A nucleus still shorter than its length grows on without the tests below.
+    double nucleus = 0;
+    if (const auto it = m_nucleus.find(tip); it != m_nucleus.end()) {
+        nucleus = it->second;
+        m_nucleus.erase(it);
+    }
+    if (!m_split.griffith && ns.ratio < 1.0 && nucleus <= 0) {
         // Without Griffith's test a tip runs on its stress alone: below threshold it waits for
         // the load to rise, and Alg. 5's time step ends when it crosses (advance_time()).
         m_dormant.push_back(tip);
@@ -182,7 +195,7 @@ bool Splitter::extend_tip(std::size_t tip, Event& ev) {
     Timer timer;
     // A trial, so a rejected extension rolls back exactly (digest §3.9.4 caveat 2). The stress
     // cache is refreshed only once an extension is accepted, so it needs no undo.
-    const bool trial = m_split.griffith;
+    const bool trial = m_split.griffith && nucleus <= 0;
     if (trial) m_model.begin_trial();
     m_in_trial = trial;
     // What a rolled-back cut counted is not kept.
@@ -220,7 +233,7 @@ bool Splitter::extend_tip(std::size_t tip, Event& ev) {
     std::vector<std::size_t> moved = relax_near(touched, &released);
     m_in_trial = false;
 
-    if (m_split.griffith) {
+    if (trial) {
         // Alg. 11 with the physical ½F·u (digest caveat 1): cutting at fixed positions keeps
         // the strain energy (a duplicated node; a node split into an edge at its rest position
         // plus the interpolated displacement, which on a curved surface releases next to nothing
@@ -255,6 +268,8 @@ bool Splitter::extend_tip(std::size_t tip, Event& ev) {
     if (!flipped.empty()) refresh_after(flipped, relax_near(flipped));
     if (is_tip(m_model, end.vertex)) {
         m_tips.push_back(end.vertex);
+        const double step = (b0 - a0).norm();
+        if (nucleus - step > 0) m_nucleus[end.vertex] = nucleus - step;
         smooth_near(end.vertex);
     }
     ev.time = m_model.time();

@@ -52,6 +52,11 @@ void Splitter::make_nonlocal() {
     });
 }
 
+double Splitter::nucleus_length(std::size_t v) const {
+    return m_split.initiation_fraction > 0 ? m_split.initiation_fraction * m_model.vertex_thickness(vertex_id(v))
+                                           : m_split.initiation_length;
+}
+
 NodalStress Splitter::node_stress(std::size_t v) const {
     auto cached = [&](std::size_t f) -> const sim::TopStress& { return m_cache.stress(f); };
     return m_nonlocal ? m_nonlocal->nodal(v, cached) : nodal_from(m_model, v, cached);

@@ -10,6 +10,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <deque>
+#include <map>
 #include <memory>
 #include <utility>
 #include <vector>
@@ -174,6 +175,8 @@ private:
     /// (nonlocal.hpp), or the thesis' nodal average (§5.7.1).
     NodalStress node_stress(std::size_t v) const;
     void make_nonlocal();
+    /// The length a new crack starts with (m): the initiation length at node v.
+    double nucleus_length(std::size_t v) const;
     void update_node_ratios();
     void advance_time();
 
@@ -196,6 +199,7 @@ private:
     std::vector<double> m_node_ratio; // nodal ratio per vertex, valid where not dirty
     std::vector<char> m_node_dirty;
     std::unique_ptr<NonlocalStress> m_nonlocal; // null: the thesis' nodal stress
+    std::map<std::size_t, double> m_nucleus;    // tip → length its nucleus still has to grow (m)
 };
 
 } // namespace crackle::fracture::split_detail

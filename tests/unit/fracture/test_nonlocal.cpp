@@ -5,7 +5,7 @@
 
 #include "fracture/fem_split/nonlocal.hpp"
 #include "support/accuracy.hpp"
-#include "support/fem_fixture.hpp"
+#include "support/fracture_fixture.hpp"
 #include "support/scripted_crack.hpp"
 
 #include <doctest/doctest.h>
@@ -128,5 +128,46 @@ TEST_SUITE("fracture") {
             CHECK(worst < 0.03); // the facets scatter the uniform field by a few per cent
         }
         CHECK(mean_faces[1] / mean_faces[0] == doctest::Approx(4.0).epsilon(0.25));
+    }
+}
+
+TEST_SUITE("fracture") {
+    TEST_CASE("nonlocal: a new crack starts as long as the layer is thick at every resolution (its nucleus), not two "
+              "elements long") {
+        // A shrinking layer so tough that every tip stops at once (Griffith): what is left are the
+        // cracks as they started. With the averaged criterion each is about one initiation length
+        // long (two arms of half of it) whatever the element size; the thesis' starts two elements long.
+        auto stubs = [](std::size_t elements, double fraction) {
+            test::LayerSpec s;
+            s.size = Vec2(0.2, 0.2);
+            s.elements = elements;
+            s.thickness = 0.01;
+            s.toughness = 1e7; // arrests everything
+            s.shrinkage = {3e-4, 3e-4};
+            fracture::SplitOptions split;
+            split.initiation_fraction = fraction;
+            fracture::FractureOptions options;
+            options.max_events = 40; // a few cracks: they all start at once on the uniform layer
+            const auto run = test::run_split(s, 1.0, split, options, false);
+            REQUIRE(run.split.splits >= 3);
+            CHECK(run.split.extensions + run.split.splits > 0);
+            return run.stats.crack_length_per_area * 0.04 / double(run.split.splits); // m per crack
+        };
+        const double coarse = stubs(3200, 1.0), fine = stubs(12800, 1.0);
+        const double thesis_coarse = stubs(3200, 0.0), thesis_fine = stubs(12800, 0.0);
+        CAPTURE(coarse);
+        CAPTURE(fine);
+        CAPTURE(thesis_coarse);
+        CAPTURE(thesis_fine);
+        CHECK(coarse > 0.009); // at least one initiation length (1 cm), plus the last step past it
+        CHECK(fine > 0.009);
+        CHECK(std::abs(fine / coarse - 1) < 0.25);
+        CHECK(thesis_fine < 0.75 * thesis_coarse); // two elements: halves with the edge
+        test::record_claim("initiation", "a new crack starts one initiation length long at every resolution",
+                           "mean length of a crack that stopped at once [m], 12800 / 3200 elements - 1 (h = 1 cm)",
+                           fine / coarse - 1, "|.| < 0.25");
+        test::record_claim("initiation", "a new crack starts one initiation length long at every resolution",
+                           "the same with the thesis' criterion (two elements)", thesis_fine / thesis_coarse - 1,
+                           "< -0.25");
     }
 }
