@@ -4,7 +4,7 @@ Embedded into the crackle binary and run as
     python3 -c <this file> SCALE.csv OUT-DIR
 It only draws what crackle measured: wall time and peak memory against the element count on
 tiles of growing area (fixed resolution per layer thickness), and the refinement of the
-preset's own tile as error (distance to the study's reference) against wall time.
+preset's own tile as error (rms z against the study's reference, in its seed spreads) against wall time.
 Needs matplotlib (Debian: python3-matplotlib, installed by scripts/setup).
 """
 import csv
@@ -52,9 +52,9 @@ for b in builds:
     ax_t.loglog(n, t, "o-", color=c, label=f"{b} (slope {slope(n, t):.2f})")
     ax_m.loglog(n, m, "o-", color=c, label=f"{b} (slope {slope(n, m):.2f})")
     f = series(b, "refinement")
-    ax_e.plot([float(r["wall_s"]) for r in f], [float(r["distance_to_reference"]) for r in f], "o-", color=c, label=b)
+    ax_e.plot([float(r["wall_s"]) for r in f], [float(r["rms_z"]) for r in f], "o-", color=c, label=b)
     for r in f:
-        ax_e.annotate(r["elements"], (float(r["wall_s"]), float(r["distance_to_reference"])),
+        ax_e.annotate(r["elements"], (float(r["wall_s"]), float(r["rms_z"])),
                       textcoords="offset points", xytext=(4, 4), fontsize=7, color=c)
 first = series(builds[0], "scale")
 if first:
@@ -74,7 +74,7 @@ ax_m.set_ylabel("peak resident memory (MiB)")
 ax_e.set_title("Refinement of the preset's tile")
 ax_e.set_xscale("log")
 ax_e.set_xlabel("wall time (s)")
-ax_e.set_ylabel("distance to the reference (seed spreads)")
+ax_e.set_ylabel("error: rms z against the reference (its seed spreads)")
 ax_e.axhline(1.0, color="black", lw=0.8, ls=":")
 for ax in (ax_t, ax_m, ax_e):
     for axis in (ax.xaxis, ax.yaxis):

@@ -115,7 +115,6 @@ int scale_command(const ScaleArgs& args, std::ostream& out) {
         std::filesystem::temp_directory_path() / ("crackle-scale-" + std::to_string(static_cast<long long>(getpid())));
     std::filesystem::create_directories(work);
     const Reference reference = embedded_reference();
-    const std::vector<StatScale> scales = pattern_scales("mud");
     const int seeds = std::max(1, args.seeds);
 
     std::vector<std::vector<Measured>> measured(builds.size(), std::vector<Measured>(points.size()));
@@ -144,7 +143,7 @@ int scale_command(const ScaleArgs& args, std::ostream& out) {
     std::filesystem::remove_all(work);
 
     std::string csv = "build,series,elements,tile_m,wall_s,peak_memory_mib,fracture_events,time_steps,"
-                      "t_junction_fraction,crack_length_per_area,distance_to_reference\n";
+                      "t_junction_fraction,crack_length_per_area,rms_z,within_tolerance\n";
     Json report = Json::object();
     out << "# crackle bench scale (mud, " << seeds << " seed" << (seeds > 1 ? "s" : "") << " per point)\n";
     const auto ref = reference.find("mud");
@@ -152,7 +151,8 @@ int scale_command(const ScaleArgs& args, std::ostream& out) {
         const bool scale = std::string(series) == "scale";
         out << "\n## " << (scale ? "Scale: growing tiles at 2 elements per h²" : "Refinement: the preset's tile, finer")
             << "\n\n| build | elements | tile | wall (median) | peak MiB | events | time steps | T share | crack "
-               "length per area | distance to the reference |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+               "length per area | error: rms z (worst) | within tolerance "
+               "|\n|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
         Json series_json = Json::object();
         for (std::size_t b = 0; b < builds.size(); ++b) {
             std::vector<double> sizes, walls, memories;
@@ -160,8 +160,10 @@ int scale_command(const ScaleArgs& args, std::ostream& out) {
                 if (points[p].series != series) continue;
                 const Measured& m = measured[b][p];
                 const double wall = median(m.wall), memory = median(m.memory);
-                const double distance =
-                    ref == reference.end() ? NAN : pattern_distance(average_stats(m.runs, scales), ref->second, scales);
+                const std::vector<StatError> errors =
+                    ref == reference.end() ? std::vector<StatError>{} : seed_average_errors(m.runs, ref->second, "mud");
+                const double z = rms_z(errors);
+                const int within = within_tolerance(errors);
                 sizes.push_back(static_cast<double>(points[p].elements));
                 walls.push_back(wall);
                 memories.push_back(memory);
@@ -169,12 +171,18 @@ int scale_command(const ScaleArgs& args, std::ostream& out) {
                     << " | " << f("%.2f s", wall) << " | " << f("%.0f", memory) << " | "
                     << f("%.0f", stat(m.runs, "events")) << " | " << f("%.0f", stat(m.runs, "time_steps")) << " | "
                     << f("%.3f", stat(m.runs, "t_junction_fraction")) << " | "
-                    << f("%.1f", stat(m.runs, "crack_length_per_area")) << " | " << f("%.2f", distance) << " |\n";
+                    << f("%.1f", stat(m.runs, "crack_length_per_area")) << " | " << f("%.2f", z) << " ("
+                    << stat_title(worst_statistic(errors)) << ") | "
+                    << (within == 1   ? "yes"
+                        : within == 0 ? "no"
+                                      : "–")
+                    << " |\n";
                 csv += builds[b].first + "," + series + "," + std::to_string(points[p].elements) + ","
                        + f("%.6f", points[p].side) + "," + f("%.4f", wall) + "," + f("%.1f", memory) + ","
                        + f("%.0f", stat(m.runs, "events")) + "," + f("%.0f", stat(m.runs, "time_steps")) + ","
                        + f("%.4f", stat(m.runs, "t_junction_fraction")) + ","
-                       + f("%.3f", stat(m.runs, "crack_length_per_area")) + "," + f("%.4f", distance) + "\n";
+                       + f("%.3f", stat(m.runs, "crack_length_per_area")) + "," + f("%.4f", z) + ","
+                       + std::to_string(within) + "\n";
             }
             Json row = Json::object();
             row["time_slope"] = loglog_slope(sizes, walls);

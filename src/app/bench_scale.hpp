@@ -4,7 +4,7 @@
 /// - the scale series: tiles of growing area at a fixed resolution per layer thickness (2
 ///   elements per h², the "auto" rule), so the cost should grow like the area;
 /// - the refinement series: the preset's own tile at growing resolution, the speed-vs-accuracy
-///   study's error-vs-time curve (distance to the study's reference).
+///   study's error-vs-time curve (errors against the study's reference, in its seed spreads).
 /// With --baseline the same runs of another executable, interleaved, so one chart shows both.
 
 #include <filesystem>

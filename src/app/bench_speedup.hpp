@@ -18,7 +18,8 @@ struct SpeedupArgs {
 /// Runs mud and bark with both executables (and the baseline at the 8000 elements) and
 /// prints a Markdown table: median wall time, speed ratio, peak memory, the pattern statistics'
 /// seed means and spreads, their largest shift in units of the starting point's spread, and the
-/// distance to the study's reference. Exit 0, or 2 when the baseline cannot be run.
+/// errors against the study's reference (rms z in its seed spreads, the worst statistic, and
+/// whether all are within the texture user's tolerance). Exit 0, or 2 when the baseline cannot be run.
 int speedup_command(const SpeedupArgs& args, std::ostream& out);
 
 } // namespace crackle::app

@@ -317,20 +317,6 @@ std::string points_csv(const std::vector<Point>& points) {
     return csv;
 }
 
-/// A statistic's display name (the column headers of docs/benchmarks.md).
-std::string stat_title(const std::string& key) {
-    static const std::map<std::string, std::string> titles = {{"crack_length_per_area", "crack length per area"},
-                                                              {"mean_fragment_area", "mean fragment area"},
-                                                              {"fragment_area_cv", "fragment area CV"},
-                                                              {"t_junction_fraction", "T share"},
-                                                              {"anisotropy", "anisotropy"},
-                                                              {"tortuosity", "tortuosity"},
-                                                              {"arrest_height", "arrest height"},
-                                                              {"fragments", "fragments"}};
-    const auto it = titles.find(key);
-    return it == titles.end() ? key : it->second;
-}
-
 std::string fmt(const char* format, double v) {
     char buf[64];
     std::snprintf(buf, sizeof buf, format, v);

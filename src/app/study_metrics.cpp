@@ -14,31 +14,18 @@
 namespace crackle::app {
 
 const std::vector<StatScale>& reference_scales() {
-    // Legacy floors (pattern_distance() only): 5 % on the scale quantities (crack density,
-    // fragment area and count, as logs), and absolute ones on the dimensionless shape statistics.
-    // They were meant as "about what two seeds of a converged run differ by" but are larger than
-    // every real seed spread of the reference; the study's z divides by the real spread instead.
+    // Crack density, fragment area and count vary over decades: their spreads are of the logs.
     static const std::vector<StatScale> scales = {
-        {"crack_length_per_area", true, 0.05},
-        {"mean_fragment_area", true, 0.05},
-        {"fragment_area_cv", false, 0.05},
-        {"t_junction_fraction", false, 0.03},
-        {"anisotropy", false, 0.03},
-        {"tortuosity", false, 0.01},
-        {"fragments", true, 0.05},
-        {"arrest_height", false, 0.01},
+        {"crack_length_per_area", true},
+        {"mean_fragment_area", true},
+        {"fragment_area_cv", false},
+        {"t_junction_fraction", false},
+        {"anisotropy", false},
+        {"tortuosity", false},
+        {"fragments", true},
+        {"arrest_height", false},
     };
     return scales;
-}
-
-std::vector<StatScale> pattern_scales(const std::string& scene) {
-    std::vector<StatScale> out;
-    for (const StatScale& s : reference_scales()) {
-        if (s.key == "fragments" || s.key == "arrest_height") continue;
-        if (scene == "bark" && (s.key == "mean_fragment_area" || s.key == "fragment_area_cv")) continue;
-        out.push_back(s);
-    }
-    return out;
 }
 
 const std::vector<StatTolerance>& stat_tolerances() {
@@ -87,7 +74,7 @@ std::vector<StatScale> scales_of(const std::vector<std::string>& keys) {
     for (const std::string& key : keys) {
         const auto it = std::find_if(reference_scales().begin(), reference_scales().end(),
                                      [&](const StatScale& s) { return s.key == key; });
-        out.push_back({key, it != reference_scales().end() && it->logarithmic, 0.0});
+        out.push_back({key, it != reference_scales().end() && it->logarithmic});
     }
     return out;
 }
@@ -296,7 +283,7 @@ std::vector<StatError> stat_errors(const StatMap& x, const SceneReference& refer
             continue;
         }
         // z_k = (x_k − μ_k)/σ_k, of log x for the logarithmic statistics: no floor in it.
-        const StatScale scale{key, is_logarithmic(key), 0.0};
+        const StatScale scale{key, is_logarithmic(key)};
         e.z = (transformed(e.value, scale) - transformed(e.mean, scale)) / e.spread;
         const StatTolerance* tolerance = find_tolerance(key);
         const bool relative = tolerance && tolerance->kind == ToleranceKind::Relative;
@@ -318,6 +305,32 @@ double rms_z(const std::vector<StatError>& errors) {
     return n > 0 ? std::sqrt(sum / n) : NAN;
 }
 
+std::string stat_title(const std::string& key) {
+    static const std::map<std::string, std::string> titles = {{"crack_length_per_area", "crack length per area"},
+                                                              {"mean_fragment_area", "mean fragment area"},
+                                                              {"fragment_area_cv", "fragment area CV"},
+                                                              {"t_junction_fraction", "T share"},
+                                                              {"anisotropy", "anisotropy"},
+                                                              {"tortuosity", "tortuosity"},
+                                                              {"arrest_height", "arrest height"},
+                                                              {"fragments", "fragments"}};
+    const auto it = titles.find(key);
+    return it == titles.end() ? key : it->second;
+}
+
+std::vector<StatError> seed_average_errors(const std::vector<StatMap>& runs, const SceneReference& reference,
+                                           const std::string& scene) {
+    const std::vector<std::string> keys = compared_statistics(scene);
+    return stat_errors(average_stats(runs, scales_of(keys)), reference, keys);
+}
+
+std::string worst_statistic(const std::vector<StatError>& errors) {
+    const StatError* worst = nullptr;
+    for (const StatError& e : errors)
+        if (e.comparable && (!worst || std::abs(e.z) > std::abs(worst->z))) worst = &e;
+    return worst ? worst->key : std::string();
+}
+
 int within_tolerance(const std::vector<StatError>& errors) {
     int verdict = -1;
     for (const StatError& e : errors)
@@ -326,21 +339,6 @@ int within_tolerance(const std::vector<StatError>& errors) {
             verdict = 1;
         }
     return verdict;
-}
-
-double pattern_distance(const StatMap& x, const SceneReference& reference, const std::vector<StatScale>& scales) {
-    double sum = 0;
-    int n = 0;
-    for (const StatScale& s : scales) {
-        const auto xi = x.find(s.key);
-        const auto ri = reference.stats.find(s.key);
-        if (xi == x.end() || ri == reference.stats.end() || !std::isfinite(xi->second)) continue;
-        const double z =
-            (transformed(xi->second, s) - transformed(ri->second.mean, s)) / std::max(ri->second.spread, s.floor);
-        sum += z * z;
-        ++n;
-    }
-    return n > 0 ? std::sqrt(sum / n) : -1.0;
 }
 
 StatMap average_stats(const std::vector<StatMap>& runs, const std::vector<StatScale>& scales) {

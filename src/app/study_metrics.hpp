@@ -17,20 +17,12 @@ namespace crackle::app {
 using StatMap = std::map<std::string, double>;
 
 /// How a statistic is compared and stored: its key and whether its spread and its z are taken of
-/// log x (crack density, fragment area and count: quantities that vary over decades). `floor` is
-/// the legacy distance's smallest divisor only (pattern_distance() below); the study's error
-/// scale never uses it.
+/// log x (crack density, fragment area and count: quantities that vary over decades). Errors are
+/// in the reference's real seed spread, with no floor under it (stat_errors()).
 struct StatScale {
     std::string key;
     bool logarithmic = false; ///< compare log(x): counts and areas that vary over decades
-    double floor = 0;         ///< legacy pattern_distance() only: smallest divisor (of x, or of log x)
 };
-
-/// The statistics vector of a pattern scene for the legacy distance: crack length per area, mean
-/// fragment area, fragment area spread, T-junction fraction, anisotropy, tortuosity. Bark leaves
-/// the two fragment statistics out: its fissures seldom close into pieces (1–2 fragments per
-/// reference run).
-std::vector<StatScale> pattern_scales(const std::string& scene);
 
 /// Everything a reference stores: the pattern statistics, the fragment count and the arrest height.
 const std::vector<StatScale>& reference_scales();
@@ -148,16 +140,20 @@ std::vector<StatError> stat_errors(const StatMap& x, const SceneReference& refer
 /// NaN when none is comparable.
 double rms_z(const std::vector<StatError>& errors);
 
+/// The errors of the seed average of `runs` against a pattern scene's reference, for its
+/// compared_statistics() (bench scale, bench speedup, the auto-resolution test).
+std::vector<StatError> seed_average_errors(const std::vector<StatMap>& runs, const SceneReference& reference,
+                                           const std::string& scene);
+
+/// A statistic's display name (the column headers of docs/benchmarks.md): "T share" …
+std::string stat_title(const std::string& key);
+
+/// The key of the comparable statistic with the largest |z|; empty when none is comparable.
+std::string worst_statistic(const std::vector<StatError>& errors);
+
 /// 1 when every comparable statistic is within its tolerance, 0 when one is not, −1 when none
 /// is comparable.
 int within_tolerance(const std::vector<StatError>& errors);
-
-/// Legacy: √(mean over statistics of z²), z = (x − mean) / max(spread, floor). The floors are
-/// larger than the reference's real spreads, so this understates errors; the study no longer
-/// uses it (see stat_errors()). `bench scale`, `bench speedup` and the auto-resolution test
-/// still do until the reference is regenerated. Statistics missing from `x` or the reference
-/// are skipped; −1 when none is left.
-double pattern_distance(const StatMap& x, const SceneReference& reference, const std::vector<StatScale>& scales);
 
 /// The seed average of runs' statistics (logs averaged where the scale says so, then undone).
 StatMap average_stats(const std::vector<StatMap>& runs, const std::vector<StatScale>& scales);

@@ -141,11 +141,11 @@ std::vector<KeySpec> build_schema() {
                        "(docs/benchmarks.md, stability envelope)."));
     s.push_back(integer("simulation", "thickness_order", 1, "", 1, 3,
                         "FEM methods: polynomial order of the displacement through the layer's thickness. 1 = the "
-                        "thesis' linear wedge (constant thickness strain: a shrinkage gradient's top stress comes out "
-                        "high, +2 % at ν = 0.3 and +97 % at ν = 0.45, and a crack releases 13-27 % too little "
-                        "energy); 2 and 3 add through-thickness modes (2 or 3 times the unknowns, matching the "
-                        "laminate stress within 1 % and a channel crack's energy within 5 % on fine meshes; "
-                        "docs/accuracy.md)."));
+                        "thesis' linear wedge (constant thickness strain: on the plane a shrinkage gradient's top "
+                        "stress comes out high, +16 % at ν = 0.3 and +123 % at ν = 0.45, and a channel crack "
+                        "releases 17 % (ν = 0.3) to 34 % (0.45) too little energy); 2 and 3 add through-thickness "
+                        "modes (2 or 3 times the unknowns, 3-15 times the time: the laminate stress within 1 % and "
+                        "a channel crack's energy within 5 % (order 2, ν = 0.3) on fine meshes; docs/accuracy.md)."));
     s.push_back(integer("simulation", "solver_max_iterations", 20000, "", 1, 1.0e7,
                         "FEM methods: CG iterations before the run fails with exit code 3."));
     s.push_back(integer("simulation", "max_events", 1000000, "", 1, 1.0e8,

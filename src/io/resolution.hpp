@@ -13,13 +13,15 @@ namespace crackle::io {
 
 /// The rule's constants, from the study (docs/benchmarks.md).
 struct ResolutionRule {
-    /// Elements per h² of surface (h the thinnest layer thickness): where the study's mud
-    /// (fem-split with the tip sub-model) comes within one seed spread of its converged reference
-    /// (distance 1.14 at 1.6 per h², 0.54 at 3.2). Bark is at 1.7–2.1 from 0.9 to 7 per h² alike
-    /// and converges only past 14 per h² (docs/benchmarks.md).
+    /// Elements per h² of surface (h the thinnest layer thickness): the cheapest density at
+    /// which mud, bark and fruit come within the texture user's tolerance of their converged
+    /// answers (crack density and fragment area 5 %, T share 0.05; mud's T share by 0.003).
+    /// The isogonic sphere and two bark species are not within it at this density
+    /// (docs/benchmarks.md, "Model no more than a scene needs").
     double elements_per_thickness_squared = 2.0;
     /// The preview's (with fem-split's tip sub-model off): about a second for every shipped
-    /// preset; crack density and plate size stay within about 15 % and 35 % of the reference.
+    /// preset; mud's crack density and plate size come out 15 % and 40 % off the converged
+    /// reference, its T share 0.2 low (docs/benchmarks.md).
     double preview_elements_per_thickness_squared = 0.3;
     /// Texture pixels per element at the cap: a triangle about 4 px on a side is the finest
     /// a crack path can show.

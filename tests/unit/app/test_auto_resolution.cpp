@@ -50,8 +50,8 @@ app::StatMap run_stats(std::vector<std::string> args) {
 }
 
 std::vector<app::StatError> errors(const std::vector<app::StatMap>& runs, const std::string& preset) {
-    const auto scales = app::pattern_scales(preset);
-    return app::stat_errors(app::average_stats(runs, scales), app::embedded_reference().at(preset), TOLERANCED);
+    return app::stat_errors(app::average_stats(runs, app::scales_of(TOLERANCED)), app::embedded_reference().at(preset),
+                            TOLERANCED);
 }
 
 } // namespace

@@ -102,8 +102,8 @@ TEST_SUITE("app") {
     TEST_CASE("preset library: key presets keep their pattern's statistics over seeds") {
         // Bands around the means over seeds 1-3 at reduced element counts, measured with
         //   crackle -q simulate <preset> --seed S --set simulation.elements=N [--set ...] --json r.json
-        // (2026-12, with the initiation stress averaged over the layer thickness and its nucleus). Seed spreads are a few per cent; the bands are about
-        // ±15 %, so a physics regression (not noise) moves a preset out of its band.
+        // (2026-12, with the initiation stress averaged over the layer thickness and its nucleus). Seed spreads are a
+        // few per cent; the bands are about ±15 %, so a physics regression (not noise) moves a preset out of its band.
 
         // Mud on a quarter tile (0.25 m, 400 elements, the tip sub-model kept): T-junctions
         // 0.898 / 0.823 / 0.811 (0.70-0.76 without the sub-model), crack density 68.8 / 66.4 /

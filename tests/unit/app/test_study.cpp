@@ -328,9 +328,9 @@ TEST_SUITE("app") {
         }
     }
 
-    TEST_CASE("study: the legacy floored distance (bench scale, bench speedup) is 0 at the reference, |z| for one "
-              "statistic, and uses the floors") {
-        const auto scales = app::pattern_scales("mud");
+    TEST_CASE("study: a reference keeps its seeds' real spreads (logs for the sizes), survives its JSON, and a seed "
+              "average's errors are in those spreads with no floor") {
+        const auto scales = app::scales_of(app::compared_statistics("mud"));
         std::vector<app::StatMap> runs = {
             {{"crack_length_per_area", 70.0}, {"t_junction_fraction", 0.88}, {"tortuosity", 1.02}},
             {{"crack_length_per_area", 80.0}, {"t_junction_fraction", 0.96}, {"tortuosity", 1.02}},
@@ -342,28 +342,27 @@ TEST_SUITE("app") {
               == doctest::Approx(std::abs(std::log(80.0) - std::log(70.0)) / std::sqrt(2.0)));
         CHECK(ref.stats.at("t_junction_fraction").spread == doctest::Approx(0.08 / std::sqrt(2.0)));
         CHECK(ref.stats.at("tortuosity").spread == 0.0);
-        // At the reference's means the distance is 0.
-        app::StatMap at_mean = {
-            {"crack_length_per_area", std::sqrt(70.0 * 80.0)}, {"t_junction_fraction", 0.92}, {"tortuosity", 1.02}};
-        CHECK(app::pattern_distance(at_mean, ref, scales) == doctest::Approx(0.0).epsilon(1e-12));
-        // One statistic off by two spreads: √(4/3) over the three compared.
-        app::StatMap off = at_mean;
-        off["t_junction_fraction"] = 0.92 + 2 * 0.08 / std::sqrt(2.0);
-        CHECK(app::pattern_distance(off, ref, scales) == doctest::Approx(std::sqrt(4.0 / 3.0)));
-        // A statistic the seeds agree on is measured against its floor (0.01 for tortuosity).
-        off = at_mean;
-        off["tortuosity"] = 1.05;
-        CHECK(app::pattern_distance(off, ref, scales) == doctest::Approx(std::sqrt(9.0 / 3.0)));
-        // Bark leaves the fragment statistics out; nothing comparable gives −1.
-        for (const auto& s : app::pattern_scales("bark"))
-            CHECK(s.key.find("fragment") == std::string::npos);
-        CHECK(app::pattern_distance({{"unknown", 1.0}}, ref, scales) == -1.0);
+        // The seed average of the reference's own runs is at its means: z = 0.
+        const auto at_mean = app::seed_average_errors(runs, ref, "mud");
+        CHECK(app::rms_z(at_mean) == doctest::Approx(0.0).epsilon(1e-12));
+        CHECK(app::within_tolerance(at_mean) == 1);
+        // One statistic off by two spreads: z = 2 for it, √(4/2) over the two comparable ones
+        // (tortuosity: the seeds agree exactly, so it is not comparable rather than floored).
+        std::vector<app::StatMap> off = runs;
+        for (auto& r : off)
+            r["t_junction_fraction"] += 2 * 0.08 / std::sqrt(2.0);
+        const auto e = app::seed_average_errors(off, ref, "mud");
+        CHECK(app::rms_z(e) == doctest::Approx(std::sqrt(2.0)));
+        CHECK(app::worst_statistic(e) == "t_junction_fraction");
+        CHECK(app::within_tolerance(e) == 0); // +0.113 > 0.05
+        for (const auto& x : e)
+            if (x.key == "tortuosity") CHECK_FALSE(x.comparable);
         // The reference survives its JSON.
         const app::Reference both = {{"mud", ref}};
         const app::Reference back =
             app::reference_from_json(Json::parse(app::reference_to_json(both).dump(), "ref"), "ref");
         CHECK(back.at("mud").stats.at("t_junction_fraction").values == ref.stats.at("t_junction_fraction").values);
-        CHECK(app::pattern_distance(off, back.at("mud"), scales) == doctest::Approx(std::sqrt(3.0)));
+        CHECK(app::rms_z(app::seed_average_errors(off, back.at("mud"), "mud")) == doctest::Approx(std::sqrt(2.0)));
     }
 
     TEST_CASE("study: the arrest height is a low percentile of the crack events above the seam band") {
