@@ -118,6 +118,10 @@ render::BakeOptions bake_options(const io::Preset& preset, const post::PieceMesh
     r.crack_width = preset.number("bake.crack_width");
     r.crack_depth = preset.number("bake.crack_depth");
     r.crack_shape = preset.number("bake.crack_shape");
+    r.curves = preset.text("bake.grooves") == "curves";
+    r.wander = preset.number("bake.crack_wander");
+    r.wander_wavelength = preset.number("bake.crack_wander_wavelength");
+    r.tip_length = preset.number("bake.tip_length");
     r.fibre = {preset.number("bake.fibre_depth"), preset.number("bake.fibre_size"),
                preset.number("bake.fibre_stretch")};
     r.flake = {preset.number("bake.flake_depth"), preset.number("bake.flake_size"),

@@ -218,6 +218,19 @@ std::vector<KeySpec> build_schema() {
     s.push_back(number("bake", "crack_shape", 0.0, "", 0.0, 1.0,
                        "Profile of the plates' edges: 0 = V-shaped grooves (the lip slopes gently down), 1 = "
                        "rounded ridges (the plate stays high and drops steeply into the furrow, as on bark)."));
+    s.push_back(choice("bake", "grooves", "raster", {"raster", "curves"},
+                       "Where the grooves are cut from: \"raster\" = the rendered crack pixels (element-scale "
+                       "polylines); \"curves\" = the crack network smoothed into curves, with profiles whose "
+                       "normals are continuous and tapered tips (in progress: docs/user-guide.md)."));
+    s.push_back(number("bake", "crack_wander", 0.0, "m", 0.0, 0.1,
+                       "Amplitude of the crack paths' wander below the element size (the bake smooths the "
+                       "simulated polylines into curves and lets them wander by this much); 0 = smooth curves "
+                       "only. At most a twelfth of the wavelength."));
+    s.push_back(number("bake", "crack_wander_wavelength", 0.0, "m", 0.0, 1.0,
+                       "Wavelength of the crack paths' wander; 0 = four element lengths."));
+    s.push_back(number("bake", "tip_length", 0.0, "m", 0.0, 1.0,
+                       "Over how much of its length a crack's groove narrows and shallows towards a tip, "
+                       "closing to a hairline; 0 = grooves keep their width to the tip."));
     s.push_back(number("bake", "crack_age", 0.6, "", 0.0, 1.0,
                        "How much finer the last cracks are than the first (0 = all alike; 1 = the last are "
                        "hairlines). Cracks keep opening after they form, so early ones are wide."));

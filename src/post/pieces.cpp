@@ -215,6 +215,21 @@ PieceMesh build_pieces(const fracture::CrackPattern& p, const PostOptions& o) {
         max_height = std::max(max_height, t.height);
     }
     out.max_height = max_height;
+    {
+        // The crack network from every piece's copy of each pattern vertex at its final place.
+        std::vector<std::vector<Vec2>> copies(p.mesh.num_vertices());
+        std::vector<Vec2> metric(p.mesh.num_vertices());
+        for (std::size_t v = 0; v < nv; ++v)
+            copies[topo.source_vertex[v]].push_back(tops[v].uv);
+        for (std::size_t v = 0; v < copies.size(); ++v) {
+            const Vec3& P0 = p.mesh.positions[vertex_id(v)];
+            metric[v] = metric_at(surface, P0);
+            if (copies[v].empty())
+                copies[v].push_back(surface.periodic() ? surface.uv_of_domain(p.mesh.domain[vertex_id(v)])
+                                                       : surface.uv(P0));
+        }
+        out.chains = crack_chains(p, copies, metric, times);
+    }
 
     // === 5. Triangles: tops, walls at crack lips, floor under removed elements
     auto corner_shift_uv = [&](const Vec2i& o_) { return Vec2(o_.x(), o_.y()); };

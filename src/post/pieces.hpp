@@ -7,6 +7,7 @@
 
 #include "core/math.hpp"
 #include "fracture/crack_pattern.hpp"
+#include "post/crack_network.hpp"
 
 #include <array>
 #include <cstdint>
@@ -49,6 +50,9 @@ struct PieceMesh {
     /// The top edge of every crack wall (a crack lip), as vertex pairs: baking draws them as
     /// lines so that closed cracks (split elements that have not opened) still show.
     std::vector<std::array<std::uint32_t, 2>> lips;
+    /// The crack network's chains in the final configuration: the bake shapes the grooves from
+    /// them (smoothed into curves), so the relief does not show the element-scale polylines.
+    std::vector<CrackChain> chains;
     mesh::SurfaceKind kind = mesh::SurfaceKind::Plane;
     bool periodic = true;
     /// Metres per unit of u and v in the reference tile (the sphere: at the equator).

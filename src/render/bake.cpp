@@ -27,7 +27,19 @@ TextureSet bake(const post::PieceMesh& pieces, const BakeOptions& o, GlContext& 
     raster.crack_age = o.crack_age;
     raster.seed = o.seed;
     raster.shader_dir = o.shader_dir;
-    const RasterLayers layers = rasterize(pieces, raster, context);
+    RasterLayers layers = rasterize(pieces, raster, context);
+
+    // The crack network smoothed into curves at this map's pixel size (render/crack_curves.hpp).
+    CurveOptions curve_options;
+    curve_options.wander = o.relief.wander;
+    curve_options.wander_wavelength = o.relief.wander_wavelength;
+    curve_options.tip_length = o.relief.tip_length;
+    curve_options.crack_age = o.crack_age;
+    curve_options.metres_per_px =
+        std::max(layers.grid.metres_v, layers.grid.metres_u[static_cast<std::size_t>(o.height / 2)]);
+    curve_options.seed = o.seed;
+    const std::vector<CrackCurve> curves =
+        o.relief.curves ? crack_curves(pieces, curve_options) : std::vector<CrackCurve>{};
 
     ReliefOptions relief_options = o.relief;
     relief_options.bevel = pieces.post_bevel;
@@ -36,7 +48,13 @@ TextureSet bake(const post::PieceMesh& pieces, const BakeOptions& o, GlContext& 
     relief_options.element_size = pieces.element_size;
     relief_options.seed = o.seed;
     Timer relief_timer;
-    const Relief relief = shape_relief(layers, relief_options);
+    Relief relief;
+    if (relief_options.curves) {
+        relief = shape_relief_curves(layers, curves, relief_options);
+        relabel_cracks(layers, relief);
+    } else {
+        relief = shape_relief(layers, relief_options);
+    }
 
     TextureSet set;
     set.width = o.width;

@@ -189,6 +189,43 @@ std::vector<float> masked_blur(const PixelGrid& g, const std::vector<float>& val
     return out;
 }
 
+PlateHeights plate_heights(const RasterLayers& layers, const std::vector<std::uint8_t>& plate, double sigma_px) {
+    const PixelGrid& g = layers.grid;
+    PlateHeights p;
+    p.half = sigma_px >= 8.0 && g.width % 2 == 0 && g.height % 2 == 0;
+    if (!p.half) {
+        p.grid = g;
+        p.mean = layers.height;
+        p.any = plate;
+        return p;
+    }
+    // Wide smoothing at half resolution: the plates' mean height over each 2 × 2 block.
+    p.grid = half_grid(g);
+    p.mean.assign(p.grid.pixels(), 0.0f);
+    std::vector<float> count(p.grid.pixels(), 0.0f);
+    parallel_rows(p.grid.height, [&](int cy) {
+        for (int y = 2 * cy; y < 2 * cy + 2; ++y)
+            for (int x = 0; x < g.width; ++x)
+                if (plate[g.index(x, y)]) {
+                    const std::size_t c = p.grid.index(x / 2, cy);
+                    p.mean[c] += layers.height[g.index(x, y)];
+                    count[c] += 1.0f;
+                }
+    });
+    p.any.assign(p.grid.pixels(), 0);
+    for (std::size_t c = 0; c < p.grid.pixels(); ++c) {
+        p.any[c] = count[c] > 0;
+        p.mean[c] = count[c] > 0 ? p.mean[c] / count[c] : 0.0f;
+    }
+    return p;
+}
+
+std::vector<float> smooth_plates(const PixelGrid& map, const PlateHeights& p, double sigma_px) {
+    const double s = p.half ? sigma_px / 2 : sigma_px;
+    std::vector<float> v = masked_blur(p.grid, p.mean, p.any, std::min(s, 0.25 * p.grid.height));
+    return p.half ? upsample2(map, v) : v;
+}
+
 Relief shape_relief(const RasterLayers& layers, const ReliefOptions& o) {
     const PixelGrid& g = layers.grid;
     const std::size_t px = g.pixels();
@@ -204,29 +241,7 @@ Relief shape_relief(const RasterLayers& layers, const ReliefOptions& o) {
     for (std::size_t i = 0; i < px; ++i)
         plate[i] = !layers.crack[i];
     const double sigma_px = o.element_size > 0 ? 0.35 * o.element_size / g.metres_v : 0.0;
-    std::vector<float> smooth;
-    if (sigma_px >= 8.0 && g.width % 2 == 0 && g.height % 2 == 0) {
-        // Wide smoothing at half resolution: the plates' mean height over each 2 × 2 block.
-        const PixelGrid coarse = half_grid(g);
-        std::vector<float> sum(coarse.pixels(), 0.0f), count(coarse.pixels(), 0.0f);
-        parallel_rows(coarse.height, [&](int cy) {
-            for (int y = 2 * cy; y < 2 * cy + 2; ++y)
-                for (int x = 0; x < g.width; ++x)
-                    if (plate[g.index(x, y)]) {
-                        const std::size_t c = coarse.index(x / 2, cy);
-                        sum[c] += layers.height[g.index(x, y)];
-                        count[c] += 1.0f;
-                    }
-        });
-        std::vector<std::uint8_t> any(coarse.pixels());
-        for (std::size_t c = 0; c < coarse.pixels(); ++c) {
-            any[c] = count[c] > 0;
-            sum[c] = count[c] > 0 ? sum[c] / count[c] : 0.0f;
-        }
-        smooth = upsample2(g, masked_blur(coarse, sum, any, std::min(sigma_px / 2, 0.25 * coarse.height)));
-    } else {
-        smooth = masked_blur(g, layers.height, plate, std::min(sigma_px, 0.25 * g.height));
-    }
+    const std::vector<float> smooth = smooth_plates(g, plate_heights(layers, plate, sigma_px), sigma_px);
 
     // === 2–3. Lips and curl from the distance to the cracks. A crack's groove reaches as far as
     // its weight says; taking only the nearest crack's weight would cut the grooves off along the

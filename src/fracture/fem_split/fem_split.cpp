@@ -93,7 +93,13 @@ CrackPattern run_fem_split(sim::FemModel& model, const FractureOptions& options,
             const Vec3 q = pattern.deformed_corner(c.face, (c.edge + 1) % 3);
             return 0.5 * (p + q);
         };
-        const double w = (mid(pattern.cracks[ids[0]]) - mid(pattern.cracks[ids[1]])).norm();
+        // The two lips may sit in faces on opposite sides of a periodic border: the nearest image.
+        const Vec3 d = mid(pattern.cracks[ids[0]]) - mid(pattern.cracks[ids[1]]);
+        double w = d.norm();
+        if (pattern.mesh.periodic)
+            for (int i = -1; i <= 1; ++i)
+                for (int j = -1; j <= 1; ++j)
+                    w = std::min(w, (d + i * pattern.deformed_period[0] + j * pattern.deformed_period[1]).norm());
         pattern.cracks[ids[0]].opening = pattern.cracks[ids[1]].opening = w;
     }
     pattern.events_capped = events.capped();

@@ -1,0 +1,435 @@
+#include "render/groove.hpp"
+
+#include "core/parallel.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+
+namespace crackle::render {
+
+namespace {
+
+constexpr double MAX_WALL_DEG = 80.0; ///< the steepest wall a groove gets (a wider groove instead)
+constexpr int ALPHA_STEPS = 160, XI_STEPS = 64;
+constexpr int BLOCK_ROWS = 32;
+constexpr double PROFILE_BLEND = 4.0;
+/// Beyond its groove's extent a curve fades out of the join over this share of the extent.
+constexpr double FADE = 0.4;
+/// The steepest turn of a groove's slope between neighbouring pixels, on average over a fillet
+/// (the smoothstep turns 1.5× faster at its middle): narrower features would show as creases.
+constexpr double TURN_PER_PIXEL = 6.0 * PI / 180.0;
+
+double smooth01(double x) {
+    x = std::clamp(x, 0.0, 1.0);
+    return x * x * (3 - 2 * x);
+}
+
+/// J(α, ξ) = ∫₀^ξ tan(α · S(t)ᵉ) dt, S the smoothstep: the depth a fillet of unit length reaches
+/// after ξ of it while the slope angle turns from 0 towards α (tabulated, bilinear). The
+/// exponent e ≥ 1 holds the slope back towards the fillet's start: e = 1 is a V-like groove
+/// whose slope grows evenly, a larger e a rounded ridge, flat on top and steep at the lip.
+class FilletTable {
+public:
+    explicit FilletTable(double exponent) {
+        m_steepest = 0;
+        for (int k = 0; k < 1000; ++k) {
+            const double t0 = k / 1000.0, t1 = (k + 1) / 1000.0;
+            m_steepest =
+                std::max(m_steepest, (std::pow(smooth01(t1), exponent) - std::pow(smooth01(t0), exponent)) * 1000.0);
+        }
+        const double max_alpha = MAX_WALL_DEG * PI / 180.0;
+        for (int a = 0; a <= ALPHA_STEPS; ++a) {
+            const double alpha = max_alpha * a / ALPHA_STEPS;
+            double sum = 0;
+            m_table[index(a, 0)] = 0;
+            constexpr int SUB = 16; // Simpson's rule on each ξ step
+            for (int k = 0; k < XI_STEPS; ++k) {
+                const double x0 = double(k) / XI_STEPS, h = 1.0 / XI_STEPS / SUB;
+                for (int s = 0; s < SUB; ++s) {
+                    const double t0 = x0 + s * h;
+                    auto f = [&](double t) { return std::tan(alpha * std::pow(smooth01(t), exponent)); };
+                    sum += h / 6 * (f(t0) + 4 * f(t0 + h / 2) + f(t0 + h));
+                }
+                m_table[index(a, k + 1)] = static_cast<float>(sum);
+            }
+        }
+    }
+    /// The fastest the slope angle turns, in α per unit of fillet length: max of d/dt Sᵉ.
+    double steepest_turn() const { return m_steepest; }
+
+    double operator()(double alpha, double xi) const {
+        const double fa = std::clamp(alpha / (MAX_WALL_DEG * PI / 180.0), 0.0, 1.0) * ALPHA_STEPS;
+        const double fx = std::clamp(xi, 0.0, 1.0) * XI_STEPS;
+        const int a = std::min(static_cast<int>(fa), ALPHA_STEPS - 1), x = std::min(static_cast<int>(fx), XI_STEPS - 1);
+        const double sa = fa - a, sx = fx - x;
+        return (1 - sa) * ((1 - sx) * m_table[index(a, x)] + sx * m_table[index(a, x + 1)])
+               + sa * ((1 - sx) * m_table[index(a + 1, x)] + sx * m_table[index(a + 1, x + 1)]);
+    }
+
+private:
+    static std::size_t index(int a, int x) { return static_cast<std::size_t>(a * (XI_STEPS + 1) + x); }
+    std::array<float, (ALPHA_STEPS + 1) * (XI_STEPS + 1)> m_table{};
+    double m_steepest = 1.5;
+};
+
+/// The lip fillet's table (its exponent from the groove's shape) and the floor fillet's.
+struct Fillets {
+    FilletTable top, bottom;
+};
+
+/// The groove's cross-section at one curve point.
+struct Profile {
+    float floor = 0;         ///< m: half the floor's width (half the simulated opening)
+    float reach = 0;         ///< m: from the floor's edge to the plate top
+    float fillet_top = 0;    ///< m
+    float fillet_bottom = 0; ///< m
+    float alpha = 0;         ///< rad: wall slope
+    float depth = 0;         ///< m
+    float share = 0;         ///< the groove's depth as a share of the local plate height (0..1)
+    float age = 1;
+
+    /// Drop below the plate top at distance d (m) from the curve.
+    double drop(double d, const Fillets& f) const {
+        const double x = floor + reach - d; // inward from the groove's outer edge
+        if (x <= 0) return 0;
+        if (x >= reach) return depth;
+        if (x <= fillet_top) return fillet_top * f.top(alpha, x / fillet_top);
+        const double top_part = fillet_top * f.top(alpha, 1.0);
+        if (x <= reach - fillet_bottom) return top_part + (x - fillet_top) * std::tan(alpha);
+        return depth - fillet_bottom * f.bottom(alpha, (reach - x) / fillet_bottom);
+    }
+};
+
+Profile lerp(const Profile& a, const Profile& b, double t) {
+    auto mix = [&](float p, float q) { return static_cast<float>((1 - t) * p + t * q); };
+    return {mix(a.floor, b.floor),           mix(a.reach, b.reach),
+            mix(a.fillet_top, b.fillet_top), mix(a.fillet_bottom, b.fillet_bottom),
+            mix(a.alpha, b.alpha),           mix(a.depth, b.depth),
+            mix(a.share, b.share),           mix(a.age, b.age)};
+}
+
+/// The profile that reaches `depth` within `reach` with fillets `top`, `bottom`: α by bisection;
+/// a groove too narrow for its fillets or for MAX_WALL_DEG walls is widened.
+Profile solve(Profile p, const Fillets& f) {
+    const double max_alpha = MAX_WALL_DEG * PI / 180.0;
+    p.reach = std::max(p.reach, p.fillet_top + p.fillet_bottom);
+    auto depth_at = [&](double alpha) {
+        return p.fillet_top * f.top(alpha, 1.0) + p.fillet_bottom * f.bottom(alpha, 1.0)
+               + (p.reach - p.fillet_top - p.fillet_bottom) * std::tan(alpha);
+    };
+    if (p.depth <= 0) {
+        p.alpha = 0;
+        return p;
+    }
+    if (depth_at(max_alpha) < p.depth) {
+        p.alpha = static_cast<float>(max_alpha);
+        const double fillet_depth = p.fillet_top * f.top(max_alpha, 1.0) + p.fillet_bottom * f.bottom(max_alpha, 1.0);
+        p.reach = static_cast<float>(p.fillet_top + p.fillet_bottom + (p.depth - fillet_depth) / std::tan(max_alpha));
+        return p;
+    }
+    double lo = 0, hi = max_alpha;
+    for (int k = 0; k < 40; ++k) {
+        const double mid = 0.5 * (lo + hi);
+        (depth_at(mid) < p.depth ? lo : hi) = mid;
+    }
+    p.alpha = static_cast<float>(0.5 * (lo + hi));
+    // The table's interpolation: the depth the profile reaches is the depth at this α.
+    p.depth = static_cast<float>(depth_at(p.alpha));
+    return p;
+}
+
+/// A segment of a curve, in pixel coordinates (x right, y down; pixel centres at integers).
+struct Segment {
+    Vec2 a, b;
+    std::uint32_t curve = 0, point = 0; ///< the curve and its first point's index
+    double extent = 0;                  ///< m: the farthest the groove (or the curl) reaches
+    double reach = 0;                   ///< m: the farthest any pixel is scanned: the extent and the fade beyond it
+    double extend_a = 0, extend_b = 0;  ///< m: how far the scanned rectangle reaches past a and b
+};
+
+/// The nearest few distinct curves of a pixel: each curve's distance (the least over its
+/// segments) and its profile there.
+struct Nearest {
+    static constexpr int SLOTS = 4;
+    std::array<float, SLOTS> distance{}, extent{};
+    std::array<std::int32_t, SLOTS> curve{-1, -1, -1, -1};
+    std::array<Profile, SLOTS> profile{};
+
+    void offer(float d, float reach, std::int32_t c, const Profile& p) {
+        int slot = -1, farthest = 0;
+        for (int k = 0; k < SLOTS; ++k) {
+            if (curve[k] == c) slot = k;
+            if (curve[k] < 0 || (curve[farthest] >= 0 && distance[k] > distance[farthest])) farthest = k;
+        }
+        if (slot < 0) {
+            if (curve[farthest] >= 0 && distance[farthest] <= d) return;
+            slot = farthest;
+        } else if (distance[slot] <= d) {
+            return;
+        }
+        curve[slot] = c, distance[slot] = d, extent[slot] = reach, profile[slot] = p;
+    }
+};
+
+/// What a pixel gathers from the segments whose rectangles cover it.
+struct PixelState {
+    Nearest nearest;
+};
+
+/// The curves' distances joined by a smooth minimum, −r·ln Σ exp(−dᵢ/r) (symmetric in the
+/// curves, so the join does not depend on their order, and smooth), and their profiles blended
+/// with the weights exp(−dᵢ/r) / Σ: where two cracks meet, the plate's corner is rounded in plan
+/// by about r, and the ridge between two grooves has a rounded crest, with no crease along the
+/// line of equal distance. A curve nearer than the others by several r keeps its own distance
+/// and profile.
+std::pair<double, Profile> join_nearest(const Nearest& n, double r) {
+    double least = std::numeric_limits<double>::infinity();
+    for (int k = 0; k < Nearest::SLOTS; ++k)
+        if (n.curve[k] >= 0) least = std::min(least, double(n.distance[k]));
+    // Each curve's terms fade out beyond its groove's extent (over FADE of it), so a curve
+    // leaves the join smoothly where its scan ends and never bends its own groove. The profiles blend over a longer
+    // distance than the distances join (PROFILE_BLEND × r): a later, shallower crack's floor meets the deeper one it
+    // ends on by a gentle step.
+    std::array<double, Nearest::SLOTS> w{};
+    double sum = 0;
+    for (int k = 0; k < Nearest::SLOTS; ++k) {
+        if (n.curve[k] < 0) continue;
+        const double fade = 1.0 - smooth01((n.distance[k] / std::max(double(n.extent[k]), 1e-12) - 1.0) / FADE);
+        sum += fade * std::exp(-(n.distance[k] - least) / r);
+        w[k] = fade * std::exp(-(n.distance[k] - least) / (PROFILE_BLEND * r));
+    }
+    if (sum <= 1e-12) return {std::numeric_limits<double>::infinity(), n.profile[0]};
+    Profile p;
+    double seen = 0;
+    for (int k = 0; k < Nearest::SLOTS; ++k) {
+        if (w[k] <= 0) continue;
+        p = seen == 0 ? n.profile[k] : lerp(p, n.profile[k], w[k] / (seen + w[k]));
+        seen += w[k];
+    }
+    return {std::max(least - r * std::log(sum), 0.0), p};
+}
+
+/// Two passes of a moving average over `half` (in the units of `arc`) each way along a curve.
+/// An open curve keeps its end values (the average runs over the values mirrored oddly about
+/// each end, so the chains meeting at a junction still agree there); a closed one wraps.
+std::vector<double> smooth_along(const std::vector<double>& arc, const std::vector<double>& values, double half,
+                                 bool closed) {
+    const std::size_t n = values.size();
+    if (n < 3 || half <= 0) return values;
+    const double length = arc.back(), margin = 2 * half;
+    std::vector<double> s, v;
+    for (std::size_t k = n - 1; k-- > 1;) { // before the start, in order of arc length
+        const std::size_t j = closed ? n - 1 - k : k;
+        if (closed && length - arc[j] <= margin) s.push_back(arc[j] - length), v.push_back(values[j]);
+        if (!closed && arc[j] <= margin) s.push_back(-arc[j]), v.push_back(2 * values[0] - values[j]);
+    }
+    const std::size_t first = s.size();
+    s.insert(s.end(), arc.begin(), arc.end());
+    v.insert(v.end(), values.begin(), values.end());
+    for (std::size_t k = n - 1; k-- > 1;) { // after the end
+        const std::size_t j = closed ? n - 1 - k : k;
+        if (closed && arc[j] <= margin) s.push_back(length + arc[j]), v.push_back(values[j]);
+        if (!closed && length - arc[j] <= margin)
+            s.push_back(2 * length - arc[j]), v.push_back(2 * values[n - 1] - values[j]);
+    }
+    const std::size_t m = s.size();
+    for (int pass = 0; pass < 2; ++pass) {
+        std::vector<double> sum(m + 1, 0.0), mean(m);
+        for (std::size_t i = 0; i < m; ++i)
+            sum[i + 1] = sum[i] + v[i];
+        for (std::size_t i = 0, lo = 0, hi = 0; i < m; ++i) {
+            while (s[i] - s[lo] > half)
+                ++lo;
+            hi = std::max(hi, i);
+            while (hi + 1 < m && s[hi + 1] - s[i] <= half)
+                ++hi;
+            mean[i] = (sum[hi + 1] - sum[lo]) / double(hi + 1 - lo);
+        }
+        v = std::move(mean);
+    }
+    std::vector<double> out(v.begin() + static_cast<std::ptrdiff_t>(first),
+                            v.begin() + static_cast<std::ptrdiff_t>(first + n));
+    if (!closed) out.front() = values.front(), out.back() = values.back();
+    return out;
+}
+
+} // namespace
+
+GrooveField groove_field(const PixelGrid& g, const std::vector<CrackCurve>& curves, const std::vector<float>& top,
+                         const GrooveOptions& o) {
+    const std::size_t px = g.pixels();
+    GrooveField out;
+    out.drop.assign(px, 0.0f);
+    out.lift.assign(px, 0.0f);
+    out.coverage.assign(px, 0.0f);
+    out.age.assign(px, 1.0f);
+    out.distance.assign(px, std::numeric_limits<float>::infinity());
+    const int W = g.width, H = g.height;
+    auto to_px = [&](const Vec2& uv) { return Vec2(uv.x() * W - 0.5, (1.0 - uv.y()) * H - 0.5); };
+    auto top_at = [&](const Vec2& p) {
+        const int x = ((static_cast<int>(std::lround(p.x())) % W) + W) % W;
+        int y = static_cast<int>(std::lround(p.y()));
+        y = g.wrap_v ? ((y % H) + H) % H : std::clamp(y, 0, H - 1);
+        return double(top[g.index(x, y)]);
+    };
+
+    // === Profiles at the curves' points, and the segments to scan. The lip fillet spans the
+    // reach (the slope grows all the way to the floor fillet, as the raster grooves' t² and
+    // circle profiles do); the shape sets how late it steepens.
+    const double top_exponent = 1.0 + 3.0 * o.crack_shape;
+    const Fillets fillets{FilletTable(top_exponent), FilletTable(1.0)};
+    const double top_rate = fillets.top.steepest_turn(); // the lip fillet's fastest turn, in α per fillet length
+    std::vector<std::vector<Profile>> profiles(curves.size());
+    std::vector<Segment> segs;
+    for (std::size_t c = 0; c < curves.size(); ++c) {
+        const CrackCurve& cv = curves[c];
+        const std::size_t n = cv.uv.size();
+        profiles[c].resize(n);
+        // The plates' height, the opening and the weight along the curve, averaged over about
+        // a third of an element each way: the profile (its floor, reach and wall slope) changes
+        // smoothly along the crack; its depth is a share of the plate height at each pixel
+        // (below), so the walls carry no steps where the sampled height does.
+        std::vector<double> top_here(n), opening(n), weight(n), arc(n, 0.0);
+        for (std::size_t i = 0; i < n; ++i) {
+            top_here[i] = top_at(to_px(cv.uv[i]));
+            opening[i] = cv.opening[i];
+            weight[i] = cv.weight[i];
+            if (i > 0) arc[i] = arc[i - 1] + (to_px(cv.uv[i]) - to_px(cv.uv[i - 1])).norm();
+        }
+        for (std::vector<double>* values : {&top_here, &opening, &weight})
+            *values = smooth_along(arc, *values, o.smoothing_px, cv.closed);
+        for (std::size_t i = 0; i < n; ++i) {
+            const double taper = cv.taper[i], w = weight[i];
+            Profile p;
+            p.share = static_cast<float>(std::min(1.0, o.crack_depth * std::sqrt(w)) * taper);
+            p.floor = static_cast<float>(0.5 * opening[i] * taper);
+            p.depth = static_cast<float>(top_here[i] * p.share);
+            p.reach = static_cast<float>(std::max(o.rounding, o.crack_width * w) * std::max(taper, 0.15));
+            p.age = cv.age[i];
+            // The fillets are at least as long as the map can show: the slope turns by at most
+            // TURN_PER_PIXEL per pixel. The wall's angle is known after a solve, and longer
+            // fillets make it gentler: from the steepest wall's, the fillets only lengthen, so
+            // the last profile's turns are within what its fillets were sized for.
+            Profile solved;
+            double least = 0;
+            for (int pass = 0; pass < 4; ++pass) {
+                least = std::max(least, (pass == 0 ? MAX_WALL_DEG * PI / 180.0 : double(solved.alpha)) / TURN_PER_PIXEL
+                                            * o.pixel);
+                p.fillet_bottom = static_cast<float>(std::max(o.rounding, least));
+                p.fillet_top = static_cast<float>(
+                    std::max({o.rounding, least * top_rate / 1.5, double(p.reach - p.fillet_bottom)}));
+                solved = solve(p, fillets);
+            }
+            profiles[c][i] = solved;
+        }
+        for (std::size_t i = 0; i + 1 < n; ++i) {
+            Segment s;
+            s.a = to_px(cv.uv[i]);
+            s.b = to_px(cv.uv[i + 1]);
+            s.curve = static_cast<std::uint32_t>(c);
+            s.point = static_cast<std::uint32_t>(i);
+            const Profile &p = profiles[c][i], &q = profiles[c][i + 1];
+            // The groove's extent, and the scan beyond it over which the curve fades out of the join.
+            s.extent = std::max(p.floor + std::max(double(p.reach), o.curl > 0 ? o.curl_reach : 0.0),
+                                q.floor + std::max(double(q.reach), o.curl > 0 ? o.curl_reach : 0.0));
+            s.reach = (1.0 + FADE) * s.extent;
+            segs.push_back(s);
+        }
+    }
+    // Past both ends the rectangle reaches the whole reach (a round cap; at a joint the
+    // neighbour's cap overlaps, which costs little and needs no turn-angle bound).
+    for (Segment& s : segs)
+        s.extend_a = s.extend_b = s.reach;
+
+    // === Bin the segments (and their periodic images in v) by blocks of rows.
+    const int blocks = (H + BLOCK_ROWS - 1) / BLOCK_ROWS;
+    std::vector<std::vector<std::pair<std::uint32_t, double>>> bins(static_cast<std::size_t>(blocks));
+    for (std::size_t k = 0; k < segs.size(); ++k) {
+        const Segment& s = segs[k];
+        const double reach_px = (std::max({s.reach, s.extend_a, s.extend_b}) + s.reach) / g.metres_v + 1;
+        const double y0 = std::min(s.a.y(), s.b.y()) - reach_px, y1 = std::max(s.a.y(), s.b.y()) + reach_px;
+        std::vector<double> shifts{0.0};
+        if (g.wrap_v) {
+            const double base = -H * std::floor(std::min(s.a.y(), s.b.y()) / H);
+            shifts = {base - H, base, base + H};
+        }
+        for (double shift : shifts) {
+            const int b0 = std::max(0, static_cast<int>(std::floor((y0 + shift) / BLOCK_ROWS)));
+            const int b1 = std::min(blocks - 1, static_cast<int>(std::floor((y1 + shift) / BLOCK_ROWS)));
+            for (int b = b0; b <= b1; ++b)
+                bins[static_cast<std::size_t>(b)].emplace_back(static_cast<std::uint32_t>(k), shift);
+        }
+    }
+
+    parallel_rows(blocks, [&](int block) {
+        const int r0 = block * BLOCK_ROWS, r1 = std::min(H, r0 + BLOCK_ROWS);
+        std::vector<PixelState> state(static_cast<std::size_t>((r1 - r0) * W));
+        for (const auto& [k, shift] : bins[static_cast<std::size_t>(block)]) {
+            const Segment& s = segs[k];
+            const Profile &pa = profiles[s.curve][s.point], &pb = profiles[s.curve][s.point + 1];
+            const auto curve = static_cast<std::int32_t>(s.curve);
+            for (int y = r0; y < r1; ++y) {
+                const double mu = g.metres_u[static_cast<std::size_t>(y)], mv = g.metres_v;
+                // The segment in this row's metres.
+                const Vec2 a(s.a.x() * mu, (s.a.y() + shift) * mv), b(s.b.x() * mu, (s.b.y() + shift) * mv);
+                const Vec2 ab = b - a;
+                const double len = ab.norm();
+                const Vec2 dir = len > 0 ? Vec2(ab / len) : Vec2(1, 0), nrm(-dir.y(), dir.x());
+                const Vec2 ea = a - dir * s.extend_a, eb = b + dir * s.extend_b;
+                const std::array<Vec2, 4> corner{ea + nrm * s.reach, eb + nrm * s.reach, eb - nrm * s.reach,
+                                                 ea - nrm * s.reach};
+                const double ym = y * mv;
+                double xlo = 1e300, xhi = -1e300;
+                for (int e = 0; e < 4; ++e) {
+                    const Vec2 &p = corner[static_cast<std::size_t>(e)],
+                               &q = corner[static_cast<std::size_t>((e + 1) % 4)];
+                    if ((p.y() - ym) * (q.y() - ym) > 0 || p.y() == q.y()) continue;
+                    const double x = p.x() + (ym - p.y()) / (q.y() - p.y()) * (q.x() - p.x());
+                    xlo = std::min(xlo, x);
+                    xhi = std::max(xhi, x);
+                }
+                if (xlo > xhi) continue;
+                int x0 = static_cast<int>(std::ceil(xlo / mu)), x1 = static_cast<int>(std::floor(xhi / mu));
+                if (x1 - x0 >= W) x1 = x0 + W - 1;
+                for (int x = x0; x <= x1; ++x) {
+                    const Vec2 q(x * mu, ym);
+                    const double t = len > 0 ? std::clamp((q - a).dot(ab) / (len * len), 0.0, 1.0) : 0.0;
+                    const double d = (q - a - t * ab).norm();
+                    if (d > s.reach) continue;
+                    PixelState& st = state[static_cast<std::size_t>((y - r0) * W + ((x % W) + W) % W)];
+                    st.nearest.offer(static_cast<float>(d), static_cast<float>(s.extent), curve, lerp(pa, pb, t));
+                }
+            }
+        }
+        // === Where grooves meet, their distances join smoothly (join_nearest); the groove's
+        // drop, the curl's lift and the floor's coverage follow from the joined distance.
+        for (int y = r0; y < r1; ++y) {
+            const double pixel = std::min(g.metres_u[static_cast<std::size_t>(y)], g.metres_v);
+            for (int x = 0; x < W; ++x) {
+                const PixelState& st = state[static_cast<std::size_t>((y - r0) * W + x)];
+                if (std::all_of(st.nearest.curve.begin(), st.nearest.curve.end(), [](std::int32_t c) { return c < 0; }))
+                    continue;
+                const std::size_t i = g.index(x, y);
+                const auto [d, p] = join_nearest(st.nearest, o.join_radius);
+                if (!std::isfinite(d)) continue;
+                const double share = p.depth > 0 ? p.share * p.drop(d, fillets) / p.depth : 0.0;
+                // Curl lifts the rim as the post stage does (Fig. 4.11): by curl · (1 − d/reach)²
+                // from the plate's edge (the floor's), concave, highest at the lip.
+                const double from_lip = std::max(0.0, d - p.floor);
+                const double lift =
+                    o.curl > 0 && o.curl_reach > 0 ? o.curl * sqr(std::max(0.0, 1.0 - from_lip / o.curl_reach)) : 0.0;
+                const double half = std::max(double(p.floor), 0.5 * pixel);
+                out.drop[i] = static_cast<float>(top[i] * std::clamp(share, 0.0, 1.0));
+                out.lift[i] = static_cast<float>(top[i] * lift);
+                out.coverage[i] = static_cast<float>(std::clamp((half - d) / pixel + 0.5, 0.0, 1.0));
+                out.age[i] = p.age;
+                out.distance[i] = static_cast<float>(d);
+            }
+        }
+    });
+    return out;
+}
+
+} // namespace crackle::render

@@ -1,0 +1,50 @@
+#pragma once
+/// @file Grooves from the crack curves (issue 35): per pixel, the exact distance (metres) to the
+/// two nearest crack curves and a groove profile across each with continuous normals:
+///
+///     plate top ─╮ lip fillet (slope turns from 0 to α over L_top)
+///                 ╲ wall at slope α
+///                  ╰─ floor fillet (α back to 0 over L_floor) ── floor (half the simulated opening)
+///
+/// The slope angle turns at a bounded rate (α over a fillet length in metres), so the walls are
+/// smooth across the curve's points and the normal map has no creases at the lips; α is solved
+/// so that the groove reaches its depth (the groove widens where a deep crack would otherwise
+/// need walls steeper than MAX_WALL_DEG). Where grooves meet, their drops join as shares of the
+/// plate height, 1 − Π(1 − share) (no crease on the ridge between them). Near a tip the floor, width and
+/// depth taper to a hairline over the tip length. The distance field is scan-converted per
+/// segment (each segment's rectangle of reach, Mauch 2000's characteristic-region idea), so the
+/// cost grows with crack length × reach, not with segments × reach².
+
+#include "render/crack_curves.hpp"
+#include "render/distance.hpp"
+
+#include <vector>
+
+namespace crackle::render {
+
+struct GrooveOptions {
+    double crack_width = 0;    ///< m: the first cracks' groove reach beyond the floor (bake.crack_width)
+    double crack_depth = 0;    ///< 0..1: depth share of a crack that has not opened (bake.crack_depth)
+    double crack_shape = 0;    ///< 0 = V (short lip fillet), 1 = rounded ridges (the lip fillet is half the reach)
+    double rounding = 0;       ///< m: the fillets' least length (post.bevel, at least 1.5 pixels)
+    double curl = 0;           ///< post.curl: rim lift at the lip, in layer heights
+    double curl_reach = 0;     ///< m: how far from the lip the lift reaches (post.curl_width × the height)
+    double join_radius = 1e-3; ///< m: where cracks meet, the plates' corners round in plan by about this
+    double pixel = 1e-3;       ///< m: the map's pixel (the fillets are at least a few pixels long)
+    double smoothing_px = 0;   ///< px: the plate height along a curve is averaged over this each way
+};
+
+/// Per pixel of the grid.
+struct GrooveField {
+    std::vector<float> drop;     ///< m below the plate top (0 … the top)
+    std::vector<float> lift;     ///< m the rim is lifted by curl
+    std::vector<float> coverage; ///< share of the pixel inside the crack's floor (or its one-pixel hairline)
+    std::vector<float> age;      ///< the nearest crack's age (1 = first crack); 1 with no crack near
+    std::vector<float> distance; ///< m to the nearest crack curve (∞ with none within reach)
+};
+
+/// `top`: the plates' smoothed height per pixel (m), continued across the cracks.
+GrooveField groove_field(const PixelGrid& grid, const std::vector<CrackCurve>& curves, const std::vector<float>& top,
+                         const GrooveOptions& options);
+
+} // namespace crackle::render

@@ -1,0 +1,235 @@
+// Grooves from crack curves (render/crack_curves, render/groove, issue 35): the curves keep the
+// simulated chains' ends and stay within a quarter element (plus the wander) of them; a groove's
+// profile is monotone, reaches its depth on the floor and turns its slope by a bounded angle
+// per pixel; where cracks meet, the height has no crease; baked bark and fruit at 2048² show no
+// faceted walls next to the cracks.
+#include "app/options.hpp"
+#include "app/pipeline.hpp"
+#include "io/preset.hpp"
+#include "render/bake.hpp"
+#include "render/crack_curves.hpp"
+#include "render/groove.hpp"
+#include "render/shading.hpp"
+#include "support/gl_support.hpp"
+
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <cmath>
+
+using namespace crackle;
+using render::PixelGrid;
+
+namespace {
+
+PixelGrid plane_grid(int n, double metres) {
+    PixelGrid g;
+    g.width = g.height = n;
+    g.metres_v = metres / n;
+    g.wrap_v = true;
+    g.metres_u.assign(static_cast<std::size_t>(n), metres / n);
+    return g;
+}
+
+/// A curve through texture points, with uniform attributes.
+render::CrackCurve curve(const std::vector<Vec2>& uv, float opening, float weight = 1.0f) {
+    render::CrackCurve c;
+    c.uv = uv;
+    c.weight.assign(uv.size(), weight);
+    c.age.assign(uv.size(), 1.0f);
+    c.opening.assign(uv.size(), opening);
+    c.taper.assign(uv.size(), 1.0f);
+    return c;
+}
+
+/// Largest angle (degrees) between the normals of neighbouring pixels, over the whole grid.
+double largest_turn(const PixelGrid& g, const std::vector<float>& height, int* at_x = nullptr, int* at_y = nullptr) {
+    const std::vector<float> n = render::normals_from_height(g, height);
+    double worst = 0;
+    for (int y = 0; y < g.height; ++y)
+        for (int x = 0; x < g.width; ++x) {
+            const std::size_t i = g.index(x, y);
+            const Vec3 a(n[3 * i], n[3 * i + 1], n[3 * i + 2]);
+            for (const std::size_t j : {g.index((x + 1) % g.width, y), g.index(x, (y + 1) % g.height)}) {
+                const Vec3 b(n[3 * j], n[3 * j + 1], n[3 * j + 2]);
+                const double angle = std::acos(std::clamp(a.dot(b), -1.0, 1.0)) * RAD_TO_DEG;
+                if (angle > worst && at_x) *at_x = x, *at_y = y;
+                worst = std::max(worst, angle);
+            }
+        }
+    return worst;
+}
+
+std::vector<float> heights(const render::GrooveField& f, double top) {
+    std::vector<float> h(f.drop.size());
+    for (std::size_t i = 0; i < h.size(); ++i)
+        h[i] = static_cast<float>(top - f.drop[i]);
+    return h;
+}
+
+render::GrooveOptions options(const PixelGrid& g) {
+    render::GrooveOptions o;
+    o.crack_width = 0.006;
+    o.crack_depth = 0.8;
+    o.crack_shape = 0.3;
+    o.rounding = 0.001;
+    o.pixel = g.metres_v;
+    o.join_radius = 3 * g.metres_v;
+    o.smoothing_px = 4;
+    return o;
+}
+
+struct Simulated {
+    io::Preset preset;
+    app::SimulationResult run;
+    post::PieceMesh pieces;
+};
+
+Simulated simulate(const std::string& name, const std::vector<std::string>& overrides) {
+    io::PresetRequest request;
+    request.name_or_path = name;
+    request.overrides = overrides;
+    Simulated s{io::load_preset(request), {}, {}};
+    StepTimes times;
+    s.run = app::run_simulation(s.preset, times);
+    s.pieces = post::build_pieces(s.run.pattern, app::post_options(s.preset));
+    return s;
+}
+
+} // namespace
+
+TEST_SUITE("render") {
+    TEST_CASE("crack curves: smoothing keeps every chain's ends and moves no point more than a quarter element, the "
+              "wander stays within its amplitude and follows the seed") {
+        const Simulated s = simulate("mud", {"simulation.elements=1500"});
+        render::CurveOptions o;
+        o.metres_per_px = s.pieces.tile_size.y() / 2048;
+        const auto smooth = render::crack_curves(s.pieces, o);
+        REQUIRE(smooth.size() == s.pieces.chains.size());
+        for (std::size_t i = 0; i < smooth.size(); ++i) {
+            const post::CrackChain& c = s.pieces.chains[i];
+            if (c.closed) continue;
+            CHECK((smooth[i].uv.front() - c.uv.front()).norm() < 1e-12);
+            CHECK((smooth[i].uv.back() - c.uv.back()).norm() < 1e-12);
+            CHECK(smooth[i].uv.size() >= c.uv.size());
+        }
+        const double moved = render::largest_displacement(s.pieces, smooth);
+        CAPTURE(moved);
+        CHECK(moved > 0.0);
+        CHECK(moved <= 0.25 * 2.0 * s.pieces.element_size); // a quarter of the longest edges (about 2 × the mean)
+
+        o.wander = 0.0005;
+        o.wander_wavelength = 0.01;
+        const auto wandering = render::crack_curves(s.pieces, o);
+        const double wandered = render::largest_displacement(s.pieces, wandering);
+        CAPTURE(wandered);
+        CHECK(wandered > moved);
+        CHECK(wandered <= moved + 1.4 * o.wander + 1e-9); // two octaves: at most 1.4 × the amplitude
+        CHECK(render::crack_curves(s.pieces, o)[0].uv == wandering[0].uv);
+        o.seed = 2;
+        CHECK(render::crack_curves(s.pieces, o)[0].uv != wandering[0].uv);
+    }
+
+    TEST_CASE("grooves: a straight crack's profile falls monotonically to its floor, reaches its depth there, ends at "
+              "its reach, and turns its slope by at most 10 degrees per pixel") {
+        const PixelGrid g = plane_grid(256, 0.05);
+        const double top = 0.008;
+        const std::vector<float> tops(g.pixels(), static_cast<float>(top));
+        const render::GrooveOptions o = options(g);
+        const std::vector<render::CrackCurve> curves{curve({Vec2(0.5, -0.2), Vec2(0.5, 0.4), Vec2(0.5, 1.2)}, 0.001f)};
+        const render::GrooveField f = render::groove_field(g, curves, tops, o);
+        const std::vector<float> h = heights(f, top);
+        const int y = 100, mid = 128; // the crack at u = 0.5 is between pixels 127 and 128
+        const double depth = top * 0.8;
+        CHECK(f.drop[g.index(mid, y)] == doctest::Approx(depth).epsilon(0.02));
+        for (int x = mid; x + 1 < g.width; ++x)
+            CHECK(h[g.index(x + 1, y)] >= h[g.index(x, y)] - 1e-9);
+        // Beyond the floor and the widest reach the groove solves for (a few fillets), the plate.
+        CHECK(f.drop[g.index(mid + 110, y)] == 0.0f);
+        CHECK(f.drop[g.index(mid - 111, y)] == 0.0f);
+        // Symmetric about the crack, the same on every row.
+        CHECK(f.drop[g.index(mid + 10, y)] == doctest::Approx(f.drop[g.index(mid - 11, y)]).epsilon(1e-3));
+        CHECK(f.drop[g.index(mid + 10, 7)] == doctest::Approx(f.drop[g.index(mid + 10, y)]).epsilon(1e-4));
+        const double turn = largest_turn(g, h);
+        CAPTURE(turn);
+        CHECK(turn <= 10.0);
+    }
+
+    TEST_CASE("grooves: where cracks meet (a T, a Y) and round a bend, the height has no crease") {
+        const PixelGrid g = plane_grid(256, 0.05);
+        const double top = 0.008;
+        const std::vector<float> tops(g.pixels(), static_cast<float>(top));
+        const render::GrooveOptions o = options(g);
+        // T: a bar across the tile and a stem ending on it; Y: three arms at 120°; a bend of 90°.
+        const Vec2 t0(0.3, 0.3), y0(0.7, 0.7);
+        std::vector<render::CrackCurve> curves{
+            curve({Vec2(0.05, 0.3), t0, Vec2(0.55, 0.3)}, 0.0008f),
+            curve({t0, Vec2(0.3, 0.15), Vec2(0.3, 0.02)}, 0.0008f, 0.8f),
+            curve({y0, y0 + 0.15 * Vec2(1, 0)}, 0.0008f),
+            curve({y0, y0 + 0.15 * Vec2(-0.5, 0.866)}, 0.0008f),
+            curve({y0, y0 + 0.15 * Vec2(-0.5, -0.866)}, 0.0008f),
+        };
+        // The bend: a quarter circle, as smoothing leaves a corner, of a radius larger than the
+        // groove reaches (inside a tighter bend the walls meet in a cone's point: a known limit).
+        std::vector<Vec2> arc;
+        for (int k = 0; k <= 40; ++k)
+            arc.push_back(Vec2(0.72, 0.05) + 0.16 * Vec2(std::cos(0.5 * PI * k / 40), std::sin(0.5 * PI * k / 40)));
+        curves.push_back(curve(arc, 0.0008f));
+        const render::GrooveField f = render::groove_field(g, curves, tops, o);
+        int wx = 0, wy = 0;
+        const double turn = largest_turn(g, heights(f, top), &wx, &wy);
+        CAPTURE(turn);
+        CAPTURE(wx);
+        CAPTURE(wy);
+        CHECK(turn <= 12.0);
+        // Control: the same grooves from the nearest crack alone (no join) crease where two meet.
+        render::GrooveOptions hard = o;
+        hard.join_radius = 1e-9;
+        const double creased = largest_turn(g, heights(render::groove_field(g, curves, tops, hard), top));
+        CAPTURE(creased);
+        CHECK(creased > 1.5 * turn);
+    }
+
+    TEST_CASE("bake (grooves = curves): no faceted walls next to the cracks at 2048², bark on a cylinder and fruit "
+              "on a sphere") {
+        auto gl = test::gl_context_or_skip();
+        if (!gl) return;
+        for (const std::string name : {"bark", "fruit"}) {
+            CAPTURE(name);
+            const Simulated s = simulate(name, {"bake.grooves=\"curves\"", "bake.fibre_depth=0", "bake.flake_depth=0",
+                                                "bake.grit_depth=0", "bake.size=2048"});
+            const render::BakeOptions bo = app::bake_options(s.preset, s.pieces);
+            REQUIRE(bo.relief.curves);
+            const render::TextureSet set = render::bake(s.pieces, bo, *gl);
+            // The 99th percentile of the angle between neighbouring pixels' normals within 6 px of a
+            // crack (the Mask), as the issue measures it on the lit normal map.
+            PixelGrid g;
+            g.width = set.width;
+            g.height = set.height_px;
+            g.metres_v = 1;
+            g.metres_u.assign(static_cast<std::size_t>(g.height), 1.0);
+            std::vector<std::uint8_t> crack(set.pixels());
+            for (std::size_t i = 0; i < crack.size(); ++i)
+                crack[i] = set.mask[i] > 0.5f;
+            const render::DistanceField d = render::distance_transform(g, crack, false);
+            std::vector<double> angles;
+            for (int y = 0; y + 1 < g.height; ++y)
+                for (int x = 0; x + 1 < g.width; ++x) {
+                    const std::size_t i = g.index(x, y);
+                    if (!(d.distance[i] <= 6.0)) continue;
+                    const Vec3 a(set.normal[3 * i], set.normal[3 * i + 1], set.normal[3 * i + 2]);
+                    double worst = 0;
+                    for (const std::size_t j : {g.index(x + 1, y), g.index(x, y + 1)}) {
+                        const Vec3 b(set.normal[3 * j], set.normal[3 * j + 1], set.normal[3 * j + 2]);
+                        worst = std::max(worst, std::acos(std::clamp(a.dot(b), -1.0, 1.0)) * RAD_TO_DEG);
+                    }
+                    angles.push_back(worst);
+                }
+            REQUIRE(angles.size() > 10000);
+            const auto k = angles.size() * 99 / 100;
+            std::nth_element(angles.begin(), angles.begin() + static_cast<std::ptrdiff_t>(k), angles.end());
+            CAPTURE(angles[k]);
+            CHECK(angles[k] <= 10.0);
+        }
+    }
+}
