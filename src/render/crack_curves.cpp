@@ -115,6 +115,8 @@ std::vector<CrackCurve> crack_curves(const post::PieceMesh& pieces, const CurveO
         CrackCurve c;
         c.uv = p.uv;
         c.closed = chain.closed;
+        c.tip_front = chain.tip_front;
+        c.tip_back = chain.tip_back;
         if (amplitude > 0 && length > 0) {
             const std::uint32_t seed = hash32(o.seed * 0x85ebca6bu + static_cast<std::uint32_t>(ci));
             for (std::size_t i = 0; i < n; ++i) {

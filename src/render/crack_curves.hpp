@@ -35,11 +35,12 @@ struct CurveOptions {
 /// their attributes.
 struct CrackCurve {
     std::vector<Vec2> uv;
-    std::vector<float> weight;  ///< 1 for the first, widest cracks, down to 1 − crack_age
-    std::vector<float> age;     ///< 1 = the first crack, 0 = the last
-    std::vector<float> opening; ///< m, simulated opening at the top (0 if not simulated)
-    std::vector<float> taper;   ///< 0 at a crack tip, 1 a tip length or more away
-    bool closed = false;        ///< a loop (the first point repeated at the end)
+    std::vector<float> weight;                ///< 1 for the first, widest cracks, down to 1 − crack_age
+    std::vector<float> age;                   ///< 1 = the first crack, 0 = the last
+    std::vector<float> opening;               ///< m, simulated opening at the top (0 if not simulated)
+    std::vector<float> taper;                 ///< 0 at a crack tip, 1 a tip length or more away
+    bool closed = false;                      ///< a loop (the first point repeated at the end)
+    bool tip_front = false, tip_back = false; ///< the curve ends at a crack tip there
 };
 
 /// The curves of a piece mesh's crack chains.

@@ -44,6 +44,9 @@ public:
             const double alpha = max_alpha * a / ALPHA_STEPS;
             double sum = 0;
             m_table[index(a, 0)] = 0;
+            for (int k = 0; k <= XI_STEPS; ++k)
+                m_slope[index(a, k)] =
+                    static_cast<float>(std::tan(alpha * std::pow(smooth01(double(k) / XI_STEPS), exponent)));
             constexpr int SUB = 16; // Simpson's rule on each ξ step
             for (int k = 0; k < XI_STEPS; ++k) {
                 const double x0 = double(k) / XI_STEPS, h = 1.0 / XI_STEPS / SUB;
@@ -64,13 +67,20 @@ public:
         const double fx = std::clamp(xi, 0.0, 1.0) * XI_STEPS;
         const int a = std::min(static_cast<int>(fa), ALPHA_STEPS - 1), x = std::min(static_cast<int>(fx), XI_STEPS - 1);
         const double sa = fa - a, sx = fx - x;
-        return (1 - sa) * ((1 - sx) * m_table[index(a, x)] + sx * m_table[index(a, x + 1)])
-               + sa * ((1 - sx) * m_table[index(a + 1, x)] + sx * m_table[index(a + 1, x + 1)]);
+        // Cubic Hermite in ξ with the exact slopes (dJ/dξ = tan(α Sᵉ)): the groove's slope is
+        // continuous between the table's nodes (linear interpolation would band the normals).
+        const double h00 = (2 * sx - 3) * sx * sx + 1, h10 = ((sx - 2) * sx + 1) * sx, h01 = (3 - 2 * sx) * sx * sx,
+                     h11 = (sx - 1) * sx * sx, step = 1.0 / XI_STEPS;
+        auto at = [&](int row) {
+            return h00 * m_table[index(row, x)] + h10 * step * m_slope[index(row, x)] + h01 * m_table[index(row, x + 1)]
+                   + h11 * step * m_slope[index(row, x + 1)];
+        };
+        return (1 - sa) * at(a) + sa * at(a + 1);
     }
 
 private:
     static std::size_t index(int a, int x) { return static_cast<std::size_t>(a * (XI_STEPS + 1) + x); }
-    std::array<float, (ALPHA_STEPS + 1) * (XI_STEPS + 1)> m_table{};
+    std::array<float, (ALPHA_STEPS + 1) * (XI_STEPS + 1)> m_table{}, m_slope{};
     double m_steepest = 1.5;
 };
 
@@ -305,6 +315,13 @@ GrooveField groove_field(const PixelGrid& g, const std::vector<CrackCurve>& curv
             Profile p;
             p.share = static_cast<float>(std::min(1.0, o.crack_depth * std::sqrt(w)) * taper);
             p.floor = static_cast<float>(0.5 * opening[i] * taper);
+            // A crack closes at its tip: the floor narrows over its groove's own width (its
+            // extent), so the walls meet at the tip in a rounded point, not a crease.
+            const double from_tip = std::min(cv.tip_front ? arc[i] : 1e300, cv.tip_back ? arc.back() - arc[i] : 1e300);
+            if (from_tip < 1e300) {
+                const double extent_px = (p.floor + std::max(o.rounding, o.crack_width * w)) / o.pixel;
+                p.floor = static_cast<float>(p.floor * smooth01(from_tip / std::max(extent_px, 1.0)));
+            }
             p.depth = static_cast<float>(top_here[i] * p.share);
             p.reach = static_cast<float>(std::max(o.rounding, o.crack_width * w) * std::max(taper, 0.15));
             p.age = cv.age[i];
