@@ -1,9 +1,9 @@
 #pragma once
 /// @file The crack network as curves for baking (issue 35): where the simulation says the cracks
-/// are, as chains between the network's nodes of degree ≠ 2 (junctions and tips), in texture
-/// space and in the final (deformed) configuration, the centreline between a crack's two lips.
-/// The bake smooths these chains into curves and shapes the grooves from the distance to them,
-/// so the relief does not show the element-scale polyline (render/crack_curves.hpp).
+/// are, as chains between junctions and tips (running straight on through a junction where two
+/// links continue each other, so a T's bar is one chain), in texture space and in the final (deformed) configuration,
+/// the centreline between a crack's two lips. The bake smooths these chains into curves and shapes the grooves from the
+/// distance to them, so the relief does not show the element-scale polyline (render/crack_curves.hpp).
 
 #include "fracture/crack_pattern.hpp"
 #include "post/crack_times.hpp"
@@ -12,8 +12,8 @@
 
 namespace crackle::post {
 
-/// One chain of the crack network: a polyline from one node of degree ≠ 2 to the next (or a
-/// closed loop), through the network's nodes of degree 2.
+/// One chain of the crack network: a polyline from a tip or a junction it ends on to the next (or
+/// a closed loop), through nodes of degree 2 and the junctions it runs straight through.
 struct CrackChain {
     /// Texture coordinates, unwrapped along the chain (consecutive points are the nearest
     /// periodic images of each other, so a chain may leave [0, 1)).

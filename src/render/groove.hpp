@@ -1,6 +1,6 @@
 #pragma once
 /// @file Grooves from the crack curves (issue 35): per pixel, the exact distance (metres) to the
-/// two nearest crack curves and a groove profile across each with continuous normals:
+/// nearest few crack curves and a groove profile across them with continuous normals:
 ///
 ///     plate top ─╮ lip fillet (slope turns from 0 to α over L_top)
 ///                 ╲ wall at slope α
@@ -9,11 +9,12 @@
 /// The slope angle turns at a bounded rate (α over a fillet length in metres), so the walls are
 /// smooth across the curve's points and the normal map has no creases at the lips; α is solved
 /// so that the groove reaches its depth (the groove widens where a deep crack would otherwise
-/// need walls steeper than MAX_WALL_DEG). Where grooves meet, their drops join as shares of the
-/// plate height, 1 − Π(1 − share) (no crease on the ridge between them). Near a tip the floor, width and
-/// depth taper to a hairline over the tip length. The distance field is scan-converted per
-/// segment (each segment's rectangle of reach, Mauch 2000's characteristic-region idea), so the
-/// cost grows with crack length × reach, not with segments × reach².
+/// need walls steeper than MAX_WALL_DEG, or fillets shorter than the map can show). Where
+/// grooves meet, the curves' distances join by a log-sum-exp smooth minimum and their profiles
+/// blend (plate corners round, no crease on the ridge between two grooves). Near a tip the
+/// floor closes over the groove's width, and with a tip length the width and depth taper too. The distance field is
+/// scan-converted per segment (each segment's rectangle of reach, Mauch 2000's characteristic-region idea), so the cost
+/// grows with crack length × reach, not with segments × reach².
 
 #include "render/crack_curves.hpp"
 #include "render/distance.hpp"
