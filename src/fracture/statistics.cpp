@@ -1,5 +1,7 @@
 #include "fracture/statistics.hpp"
 
+#include "fracture/hanging_splits.hpp"
+
 #include <Eigen/Eigenvalues>
 
 #include <algorithm>
@@ -66,7 +68,8 @@ SkeletonGraph removal_skeleton(const CrackPattern& p) {
 }
 
 /// Crack vertices (copies of one reference point merged) linked along crack edges, for
-/// patterns whose cracks are edges rather than removed elements (springs, splitting).
+/// patterns whose cracks are edges rather than removed elements (springs, splitting); a crack
+/// edge split on one side only is its finer path (fracture/hanging_splits.hpp).
 SkeletonGraph crack_skeleton(const CrackPattern& p) {
     SkeletonGraph g;
     std::map<std::array<double, 3>, std::uint32_t> node_of;
@@ -81,16 +84,26 @@ SkeletonGraph crack_skeleton(const CrackPattern& p) {
         }
         return it->second;
     };
-    std::set<std::pair<std::uint32_t, std::uint32_t>> links;
+    std::map<NodePair, int> lips; // per crack link: its lips (two, one where the other side is split)
     for (const CrackEdge& c : p.cracks) {
         const auto& face = p.mesh.faces[c.face];
-        std::uint32_t a = node(face.v[static_cast<std::size_t>(c.edge)]);
-        std::uint32_t b = node(face.v[static_cast<std::size_t>((c.edge + 1) % 3)]);
-        if (a == b) continue;
-        if (a > b) std::swap(a, b);
-        if (!links.emplace(a, b).second) continue; // the other lip
-        g.adjacency[a].push_back(b);
-        g.adjacency[b].push_back(a);
+        const std::uint32_t a = node(face.v[static_cast<std::size_t>(c.edge)]);
+        const std::uint32_t b = node(face.v[static_cast<std::size_t>((c.edge + 1) % 3)]);
+        if (a != b) ++lips[std::minmax(a, b)];
+    }
+    // A link split at hanging nodes on its other side is the same crack as the finer path:
+    // keeping both would make a triangle and two spurious junctions.
+    std::vector<NodePair> single;
+    for (const auto& [key, count] : lips)
+        if (count == 1) single.push_back(key);
+    const Vec2 period = p.surface.periodic() ? p.mesh.period : Vec2::Zero();
+    std::set<NodePair> coarse;
+    for (const HangingSplit& split : hanging_splits(single, g.position, period))
+        coarse.insert(split.coarse);
+    for (const auto& [key, count] : lips) {
+        if (coarse.count(key)) continue;
+        g.adjacency[key.first].push_back(key.second);
+        g.adjacency[key.second].push_back(key.first);
     }
     return g;
 }

@@ -1,8 +1,9 @@
 #include "post/crack_network.hpp"
 
+#include "fracture/hanging_splits.hpp"
+
 #include <algorithm>
 #include <cmath>
-#include <functional>
 #include <map>
 #include <set>
 #include <tuple>
@@ -62,62 +63,30 @@ struct HangingSides {
     std::map<Key, double> gap; ///< the finer side's links: their gap to the coarse lip (m)
 };
 
-/// Finds, for every unpaired lip a → b, a path a → m₁ → … → b of other unpaired lips (at most
-/// four) whose inner nodes lie on the segment ab (within 2 % of its length): the same crack,
-/// split on one side only.
+/// The crack edges split on one side only (fracture/hanging_splits.hpp), with each finer link's
+/// gap: the mean separation of its end points from the coarse lip at their places along it.
 HangingSides hanging_sides(const std::vector<Lip>& lips, const std::map<Key, std::vector<std::size_t>>& sides,
                            const std::vector<Vec3>& reference, const fracture::CrackPattern& p) {
     const bool periodic = p.surface.periodic();
-    // Reference positions from a to b (the nearest periodic image on a periodic domain).
-    auto along = [&](std::uint32_t from, std::uint32_t to) {
-        Vec3 d = reference[to] - reference[from];
-        if (periodic)
-            for (int k = 0; k < 2; ++k)
-                d[k] -= p.mesh.period[k] * std::round(d[k] / p.mesh.period[k]);
-        return d;
-    };
-    HangingSides out;
-    std::map<std::uint32_t, std::vector<std::uint32_t>> single;
+    std::vector<fracture::NodePair> single;
     for (const auto& [key, list] : sides)
-        if (list.size() == 1) single[key.first].push_back(key.second), single[key.second].push_back(key.first);
-    for (const auto& [key, list] : sides) {
-        if (list.size() != 1) continue;
-        const auto [a, b] = key;
-        const Vec3 ab = along(a, b);
-        const double len2 = ab.squaredNorm();
-        if (len2 <= 0) continue;
-        auto on_segment = [&](std::uint32_t m, double& t) {
-            const Vec3 am = along(a, m);
-            t = am.dot(ab) / len2;
-            return t > 1e-6 && t < 1 - 1e-6 && (am - t * ab).norm() <= 0.02 * std::sqrt(len2);
-        };
-        // Depth-first over unpaired lips through nodes on the segment, forwards along it.
-        std::vector<std::uint32_t> path{a};
-        std::function<bool(std::uint32_t, double)> reach = [&](std::uint32_t at, double t_at) {
-            if (path.size() > 5) return false;
-            for (std::uint32_t next : single[at]) {
-                if (next == b && at != a) return path.push_back(b), true;
-                double t = 0;
-                if (next == b || !on_segment(next, t) || t <= t_at) continue;
-                path.push_back(next);
-                if (reach(next, t)) return true;
-                path.pop_back();
-            }
-            return false;
-        };
-        if (!reach(a, 0.0)) continue;
-        out.coarse.insert(key);
-        const Lip& coarse = lips[list.front()];
-        for (std::size_t i = 0; i + 1 < path.size(); ++i) {
-            const Key fine_key = std::minmax(path[i], path[i + 1]);
+        if (list.size() == 1) single.push_back(key);
+    HangingSides out;
+    for (const fracture::HangingSplit& split :
+         fracture::hanging_splits(single, reference, periodic ? p.mesh.period : Vec2::Zero())) {
+        out.coarse.insert(split.coarse);
+        const Lip& coarse = lips[sides.at(split.coarse).front()];
+        const auto [a, b] = split.coarse;
+        const Vec2 ca = coarse.at(a), cb = nearest_image(ca, coarse.at(b), periodic);
+        for (std::size_t i = 0; i + 1 < split.path.size(); ++i) {
+            const Key fine_key = std::minmax(split.path[i], split.path[i + 1]);
             const Lip& fine = lips[sides.at(fine_key).front()];
             double gap = 0;
-            for (const std::uint32_t m : {path[i], path[i + 1]}) {
-                double t = m == a ? 0.0 : m == b ? 1.0 : 0.0;
-                if (m != a && m != b) on_segment(m, t);
-                const Vec2 ca = coarse.at(a), cb = nearest_image(ca, coarse.at(b), periodic);
-                const Vec2 there = (1 - t) * ca + t * cb;
-                gap += 0.5 * (nearest_image(there, fine.at(m), periodic) - there).cwiseProduct(fine.metric).norm();
+            for (const std::size_t k : {i, i + 1}) {
+                const Vec2 there = (1 - split.t[k]) * ca + split.t[k] * cb;
+                gap +=
+                    0.5
+                    * (nearest_image(there, fine.at(split.path[k]), periodic) - there).cwiseProduct(fine.metric).norm();
             }
             out.gap[fine_key] = gap;
         }

@@ -56,7 +56,7 @@ TEST_SUITE("app") {
         const double h1 = 0.014, h2 = 0.028;
         const MudRun thin = mud_at(h1), thick = mud_at(h2);
         // Measured (scripts/anchors, seeds 1-3): exponent 1.98 over 0.5-2.8 cm; ρ·h 0.712-0.730;
-        // T share 0.95-0.96.
+        // T share 0.90-0.91 (junctions counted with hanging-node splits merged).
         const double exponent = std::log(thick.area / thin.area) / std::log(h2 / h1);
         test::record_claim("anchor mud",
                            "mean fragment area ∝ h^a: a = 4/3 (Ma et al. 2019) to 2 (Groisman & Kaplan 1994)",

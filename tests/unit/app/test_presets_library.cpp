@@ -106,11 +106,12 @@ TEST_SUITE("app") {
         // few per cent; the bands are about ±15 %, so a physics regression (not noise) moves a preset out of its band.
 
         // Mud on a quarter tile (0.25 m, 400 elements, the tip sub-model kept): T-junctions
-        // 0.898 / 0.823 / 0.811 (0.70-0.76 without the sub-model), crack density 68.8 / 66.4 /
-        // 67.7 per m, anisotropy 0.023 / 0.007 / 0.018. About 3.5 s a seed.
+        // 0.777 / 0.667 / 0.724 (0.703 / 0.550 / 0.587 without the sub-model; junctions counted
+        // with hanging-node splits merged, 2026-12-05), crack density 68.8 / 66.4 / 67.7 per m,
+        // anisotropy 0.023 / 0.007 / 0.018. About 3.5 s a seed.
         const SeedRuns mud = over_seeds("mud", "400", {"--set", "surface.size=[0.25,0.25]"});
-        CHECK(mud.min("t_junction_fraction") >= 0.80);
-        CHECK(mud.mean("t_junction_fraction") >= 0.83);
+        CHECK(mud.min("t_junction_fraction") >= 0.60);
+        CHECK(mud.mean("t_junction_fraction") >= 0.65);
         CHECK(mud.mean("crack_length_per_area") == doctest::Approx(71.5).epsilon(0.15));
         CHECK(mud.mean("anisotropy") <= 0.1);
 
