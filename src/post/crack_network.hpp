@@ -1,9 +1,10 @@
 #pragma once
 /// @file The crack network as curves for baking (issue 35): where the simulation says the cracks
 /// are, as chains between junctions and tips (running straight on through a junction where two
-/// links continue each other, so a T's bar is one chain), in texture space and in the final (deformed) configuration,
-/// the centreline between a crack's two lips. The bake smooths these chains into curves and shapes the grooves from the
-/// distance to them, so the relief does not show the element-scale polyline (render/crack_curves.hpp).
+/// links continue each other, so a T's bar is one chain), in texture space and in the final
+/// (deformed) configuration, the centreline between a crack's two lips. The bake smooths these
+/// chains into curves and shapes the grooves from the distance to them, so the relief does not
+/// show the element-scale polyline (render/crack_curves.hpp).
 
 #include "fracture/crack_pattern.hpp"
 #include "post/crack_times.hpp"

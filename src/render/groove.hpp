@@ -12,9 +12,10 @@
 /// need walls steeper than MAX_WALL_DEG, or fillets shorter than the map can show). Where
 /// grooves meet, the curves' distances join by a log-sum-exp smooth minimum and their profiles
 /// blend (plate corners round, no crease on the ridge between two grooves). Near a tip the
-/// floor closes over the groove's width, and with a tip length the width and depth taper too. The distance field is
-/// scan-converted per segment (each segment's rectangle of reach, Mauch 2000's characteristic-region idea), so the cost
-/// grows with crack length × reach, not with segments × reach².
+/// floor closes over the groove's width, and with a tip length the width and depth taper too.
+/// The distance field is scan-converted per segment (each segment's rectangle of reach, Mauch
+/// 2000's characteristic-region idea), so the cost grows with crack length × reach, not with
+/// segments × reach².
 
 #include "render/crack_curves.hpp"
 #include "render/distance.hpp"

@@ -8,6 +8,8 @@
 
 #include <doctest/doctest.h>
 
+#include <cmath>
+
 using namespace crackle;
 using fracture::NodePair;
 
@@ -44,6 +46,21 @@ TEST_SUITE("fracture") {
         const auto unwrapped = fracture::hanging_splits(single, at, Vec2::Zero());
         REQUIRE(unwrapped.size() == 1);
         CHECK(unwrapped[0].coarse == NodePair{0, 1});
+    }
+
+    TEST_CASE("hanging splits: on a sphere (3D positions), a hanging node on the surface is on the coarse chord") {
+        // Edges a tenth of the radius long on the unit sphere: the hanging node m (the edge's
+        // midpoint moved onto the sphere) sits L²/(8R) = 1.25 % of L off the chord, within the
+        // 2 % the search allows; a node a quarter of L off it is a different crack.
+        const Vec3 a = Vec3(1, 0, 0), b = Vec3(std::cos(0.1), std::sin(0.1), 0);
+        const Vec3 m = (0.5 * (a + b)).normalized();
+        const Vec3 off = (0.5 * (a + b) + 0.25 * (b - a).norm() * Vec3(0, 0, 1)).normalized();
+        const std::vector<Vec3> at = {a, m, b, off};
+        const auto splits = fracture::hanging_splits({{0, 1}, {0, 2}, {1, 2}}, at, Vec2::Zero());
+        REQUIRE(splits.size() == 1);
+        CHECK(splits[0].coarse == NodePair{0, 2});
+        CHECK(splits[0].t[1] == doctest::Approx(0.5));
+        CHECK(fracture::hanging_splits({{0, 3}, {0, 2}, {2, 3}}, at, Vec2::Zero()).empty());
     }
 
     TEST_CASE("pattern statistics: a crack split at a hanging node on one side has no junction there, and a real "
