@@ -3,10 +3,12 @@
 usage: gallery.py WORK OUT
 WORK holds commands.tsv (preset, folder, command, seconds) and, per preset, the folder of maps
 and <folder>.json (the bake report). OUT receives <folder>.jpg (colour beside a lit render of
-the relief, 256 px each), contact-sheet.jpg and README.md.
+the relief, 256 px each), contact-sheet.jpg and README.md. Presets already in OUT's README.md
+that WORK does not hold keep their row and preview, so `scripts/gallery mud` refreshes mud alone.
 """
 import json
 import os
+import re
 import sys
 
 from PIL import Image, ImageDraw
@@ -22,11 +24,26 @@ def panel(image):
     return image.resize((PANEL, max(1, round(PANEL * h / w))), Image.LANCZOS)
 
 
+ROW = re.compile(r"^\| `([^`]+)` \| !\[[^]]*\]\(([^)]+)\.jpg\) \| `([^`]+)` \| (\d+) s \|$")
+
+
+def kept_entries(out, rebaked):
+    """The rows of OUT's README.md for presets not baked now: preset -> (folder, command, seconds)."""
+    readme = os.path.join(out, "README.md")
+    kept = {}
+    if os.path.exists(readme):
+        for line in open(readme):
+            m = ROW.match(line.rstrip("\n"))
+            if m and m.group(1) not in rebaked and os.path.exists(os.path.join(out, m.group(2) + ".jpg")):
+                kept[m.group(1)] = (m.group(2), m.group(3), m.group(4))
+    return kept
+
+
 def main(work, out):
     os.makedirs(out, exist_ok=True)
     rows = [line.rstrip("\n").split("\t") for line in open(os.path.join(work, "commands.tsv")) if line.strip()]
     label_font = font(13)
-    tiles, table = [], []
+    entries = kept_entries(out, {row[0] for row in rows})
     for preset, folder, command, seconds in rows:
         maps = os.path.join(work, folder)
         name = next(f[: -len("_Color.png")] for f in os.listdir(maps) if f.endswith("_Color.png"))
@@ -38,8 +55,12 @@ def main(work, out):
         preview.paste(color, (0, 0))
         preview.paste(lit, (PANEL, 0))
         preview.save(os.path.join(out, folder + ".jpg"), quality=85)
-        tiles.append((preset, f"{command} --seed {seed}", preview))
-        table.append(f"| `{preset}` | ![{preset}]({folder}.jpg) | `{command} --seed {seed}` | {seconds} s |")
+        entries[preset] = (folder, f"{command} --seed {seed}", seconds)
+    tiles, table = [], []
+    for preset in sorted(entries):
+        folder, command, seconds = entries[preset]
+        tiles.append((preset, command, Image.open(os.path.join(out, folder + ".jpg")).convert("RGB")))
+        table.append(f"| `{preset}` | ![{preset}]({folder}.jpg) | `{command}` | {seconds} s |")
     columns = 3
     label = 32
     cell_h = max(t[2].size[1] for t in tiles) + label

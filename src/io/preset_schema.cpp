@@ -112,11 +112,17 @@ std::vector<KeySpec> build_schema() {
     }
     s.push_back(integer_or_auto(
         "simulation", "elements", "", 32, 2.0e6,
-        "Triangle count of the starting mesh. \"auto\" = as many as the crack spacing needs: 2 per "
-        "square of the thinnest layer thickness over the surface (the speed-vs-accuracy study's rule, "
-        "docs/benchmarks.md), capped at one per 8 texture pixels (bake.size), at least 400 and what a curved "
-        "surface needs. A number = exactly that many (more = finer crack detail and slower); a cylinder or sphere "
-        "needs about six triangles around at least, and fewer is refused, naming the minimum."));
+        "Triangle count of the starting mesh. \"auto\" = as many as the crack spacing needs: "
+        "simulation.elements_per_h2 per square of the thinnest layer thickness over the surface (the "
+        "speed-vs-accuracy study's rule, docs/benchmarks.md), capped at one per 8 texture pixels (bake.size), at "
+        "least 400 and what a curved surface needs. A number = exactly that many (more = finer crack detail and "
+        "slower); a cylinder or sphere needs about six triangles around at least, and fewer is refused, naming "
+        "the minimum."));
+    s.push_back(number("simulation", "elements_per_h2", 2.0, "", 0.1, 100.0,
+                       "Elements per square of the thinnest layer thickness when simulation.elements = \"auto\". "
+                       "2 = the cheapest density at which bark and fruit come within the texture tolerance of their "
+                       "converged patterns; mud's T-junctions need 4 (docs/benchmarks.md). Lower = faster and "
+                       "coarser (fewer, straighter cracks), higher = slower and closer to converged."));
     s.push_back(number("simulation", "duration", 1.0, "time", 0.0, 1000.0,
                        "Simulated time. Growth and shrinkage rates are per unit of it; longer = more, wider cracks.",
                        true));

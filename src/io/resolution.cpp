@@ -49,7 +49,7 @@ double resolving_thickness(const Settings& s) {
 ElementCount element_count(const Settings& s, bool preview) {
     const ResolutionRule& rule = resolution_rule();
     const double h = resolving_thickness(s), area = surface_area(s);
-    const double q = preview ? rule.preview_elements_per_thickness_squared : rule.elements_per_thickness_squared;
+    const double q = preview ? rule.preview_elements_per_thickness_squared : s.number("simulation.elements_per_h2");
     const double pixels = sqr(double(s.integer("bake.size")));
     const double cap = pixels / rule.pixels_per_element;
     ElementCount out;

@@ -13,12 +13,9 @@ namespace crackle::io {
 
 /// The rule's constants, from the study (docs/benchmarks.md).
 struct ResolutionRule {
-    /// Elements per h² of surface (h the thinnest layer thickness): the cheapest density at
-    /// which mud, bark and fruit come within the texture user's tolerance of their converged
-    /// answers (crack density and fragment area 5 %, T share 0.05; mud's T share by 0.003).
-    /// The isogonic sphere and two bark species are not within it at this density
-    /// (docs/benchmarks.md, "Model no more than a scene needs").
-    double elements_per_thickness_squared = 2.0;
+    // The full model's elements per h² is a preset key, simulation.elements_per_h2 (2 by default,
+    // 4 for mud: the study's cheapest density within the texture tolerance of the converged
+    // answer for each; docs/benchmarks.md, "Model no more than a scene needs").
     /// The preview's (with fem-split's tip sub-model off): about a second for every shipped
     /// preset; mud's crack density and plate size come out 15 % and 40 % off the converged
     /// reference, its T share 0.2 low (docs/benchmarks.md).

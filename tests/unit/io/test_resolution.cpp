@@ -20,8 +20,8 @@ using test::load_error;
 
 TEST_SUITE("io") {
     TEST_CASE("resolution: auto follows the area over the thinnest thickness squared, a given number is kept") {
-        const double q = io::resolution_rule().elements_per_thickness_squared;
         const io::Preset mud = load("mud", {"simulation.elements=auto", "bake.size=2048"});
+        const double q = mud.number("simulation.elements_per_h2");
         const io::ElementCount c = io::element_count(mud);
         CHECK(c.automatic);
         CHECK(c.elements == std::llround(q * 0.25 / (0.01 * 0.01)));
@@ -39,6 +39,14 @@ TEST_SUITE("io") {
         // A mesh that follows the thickness (1 → 4 cm): the area integral of 1/h², 1/(t₀·t₁) on the ramp.
         CHECK(io::element_count(load("mud/thickness-gradient", {"simulation.elements=auto"})).elements
               == std::llround(q * 0.25 / (0.01 * 0.04)));
+        // The density is the preset's: 2 per h² by default (bark), 4 for mud's T-junctions; the
+        // reason names it.
+        CHECK(q == 4.0);
+        CHECK(load("bark").number("simulation.elements_per_h2") == 2.0);
+        CHECK(c.reason.find("4 elements per h²") != std::string::npos);
+        CHECK(io::element_count(load("mud", {"simulation.elements=auto", "simulation.elements_per_h2=1"})).elements
+              == std::llround(1.0 * 0.25 / (0.01 * 0.01)));
+        CHECK(load_error("mud", {"simulation.elements_per_h2=0"}).find("simulation.elements_per_h2") != std::string::npos);
         // A number is a number.
         const io::ElementCount fixed = io::element_count(load("mud", {"simulation.elements=1234"}));
         CHECK(!fixed.automatic);
