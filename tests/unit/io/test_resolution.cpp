@@ -46,7 +46,8 @@ TEST_SUITE("io") {
         CHECK(c.reason.find("4 elements per h²") != std::string::npos);
         CHECK(io::element_count(load("mud", {"simulation.elements=auto", "simulation.elements_per_h2=1"})).elements
               == std::llround(1.0 * 0.25 / (0.01 * 0.01)));
-        CHECK(load_error("mud", {"simulation.elements_per_h2=0"}).find("simulation.elements_per_h2") != std::string::npos);
+        CHECK(load_error("mud", {"simulation.elements_per_h2=0"}).find("simulation.elements_per_h2")
+              != std::string::npos);
         // A number is a number.
         const io::ElementCount fixed = io::element_count(load("mud", {"simulation.elements=1234"}));
         CHECK(!fixed.automatic);

@@ -337,9 +337,9 @@ TEST_SUITE("render") {
         if (!gl) return;
         for (const std::string kind : {"plane", "cylinder"}) {
             CAPTURE(kind);
-            const Simulated s = simulate("mud", {"surface.kind=\"" + kind + "\"", "simulation.elements=2000",
-                                                 "simulation.tip_submodel=0", "bake.grooves=\"curves\"",
-                                                 "bake.size=1024"});
+            const Simulated s =
+                simulate("mud", {"surface.kind=\"" + kind + "\"", "simulation.elements=2000",
+                                 "simulation.tip_submodel=0", "bake.grooves=\"curves\"", "bake.size=1024"});
             const render::BakeOptions bo = app::bake_options(s.preset, s.pieces);
             const render::TextureSet set = render::bake(s.pieces, bo, *gl);
             const int pieces = s.pieces.fragments;
