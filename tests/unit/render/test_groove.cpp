@@ -325,6 +325,7 @@ TEST_SUITE("render") {
             CHECK(angles[k] <= 10.0);
         }
     }
+
     TEST_CASE("bake (grooves = curves): the crack cores in the Mask cut the map into the simulated pieces, no more and "
               "no fewer (plane and cylinder)") {
         // Topology kept (issue 35): the smoothed, wandering curves neither join two pieces (a gap in a
