@@ -152,11 +152,13 @@ Profile solve(Profile p, const Fillets& f) {
 
 /// A segment of a curve, in pixel coordinates (x right, y down; pixel centres at integers).
 struct Segment {
-    Vec2 a, b;
+    Vec2 a{0, 0}, b{0, 0};
     std::uint32_t curve = 0, point = 0; ///< the curve and its first point's index
     double extent = 0;                  ///< m: the farthest the groove (or the curl) reaches
-    double reach = 0;                   ///< m: the farthest any pixel is scanned: the extent and the fade beyond it
-    double extend_a = 0, extend_b = 0;  ///< m: how far the scanned rectangle reaches past a and b
+    double reach = 0;                   ///< m: the extent and the fade beyond it
+    Vec2 before{0, 0}, after{0, 0};     ///< the curve's points before a and after b (= a, b at an end)
+    bool cap_a = false, cap_b = false;  ///< the curve ends at a (b): a round cap of the whole reach
+    double scan = 0;                    ///< m: how far from the segment pixels are scanned (its curve's widest reach)
 };
 
 /// The nearest few distinct curves of a pixel: each curve's distance (the least over its
@@ -167,7 +169,8 @@ struct Nearest {
     std::array<std::int32_t, SLOTS> curve{-1, -1, -1, -1};
     std::array<Profile, SLOTS> profile{};
 
-    void offer(float d, float reach, std::int32_t c, const Profile& p) {
+    /// The profile is interpolated only when the offer is kept (most offers are not).
+    void offer(float d, float reach, std::int32_t c, const Profile& pa, const Profile& pb, double t) {
         int slot = -1, farthest = 0;
         for (int k = 0; k < SLOTS; ++k) {
             if (curve[k] == c) slot = k;
@@ -179,7 +182,7 @@ struct Nearest {
         } else if (distance[slot] <= d) {
             return;
         }
-        curve[slot] = c, distance[slot] = d, extent[slot] = reach, profile[slot] = p;
+        curve[slot] = c, distance[slot] = d, extent[slot] = reach, profile[slot] = lerp(pa, pb, t);
     }
 };
 
@@ -355,17 +358,50 @@ GrooveField groove_field(const PixelGrid& g, const std::vector<CrackCurve>& curv
             segs.push_back(s);
         }
     }
-    // Past both ends the rectangle reaches the whole reach (a round cap; at a joint the
-    // neighbour's cap overlaps, which costs little and needs no turn-angle bound).
-    for (Segment& s : segs)
-        s.extend_a = s.extend_b = s.reach;
+    // Past a joint the rectangle reaches only as far as the pixels whose nearest point of the
+    // curve is the joint itself (the wedge on the bend's outer side, Mauch 2000): reach · sin θ
+    // for a turn θ ≤ 90°, set per row below in that row's metres. At the curve's ends, a round
+    // cap of the whole reach.
+    for (std::size_t k = 0, first = 0; k < segs.size(); ++k) {
+        Segment& s = segs[k];
+        const CrackCurve& cv = curves[s.curve];
+        const std::size_t n = cv.uv.size(), i = s.point;
+        if (i == 0) first = k;
+        if (i > 0) {
+            s.before = segs[k - 1].a;
+        } else if (cv.closed && n > 2) {
+            s.before = to_px(cv.uv[n - 2]);
+        } else {
+            s.before = s.a, s.cap_a = true;
+        }
+        if (i + 2 < n) {
+            s.after = to_px(cv.uv[i + 2]);
+        } else if (cv.closed && n > 2) {
+            s.after = segs[first].b;
+        } else {
+            s.after = s.b, s.cap_b = true;
+        }
+    }
+
+    // Every segment of a curve scans as wide as the curve's widest reach: each pixel within it
+    // then finds its nearest point of the curve, whose profile alone shapes it (a narrower groove
+    // ahead, as at a tapering tip, is not overlapped by the round end of a wider one behind).
+    for (std::size_t k0 = 0; k0 < segs.size();) {
+        std::size_t k1 = k0;
+        double widest = 0;
+        for (; k1 < segs.size() && segs[k1].curve == segs[k0].curve; ++k1)
+            widest = std::max(widest, segs[k1].reach);
+        for (std::size_t k = k0; k < k1; ++k)
+            segs[k].scan = widest;
+        k0 = k1;
+    }
 
     // === Bin the segments (and their periodic images in v) by blocks of rows.
     const int blocks = (H + BLOCK_ROWS - 1) / BLOCK_ROWS;
     std::vector<std::vector<std::pair<std::uint32_t, double>>> bins(static_cast<std::size_t>(blocks));
     for (std::size_t k = 0; k < segs.size(); ++k) {
         const Segment& s = segs[k];
-        const double reach_px = (std::max({s.reach, s.extend_a, s.extend_b}) + s.reach) / g.metres_v + 1;
+        const double reach_px = 2 * s.scan / g.metres_v + 1;
         const double y0 = std::min(s.a.y(), s.b.y()) - reach_px, y1 = std::max(s.a.y(), s.b.y()) + reach_px;
         std::vector<double> shifts{0.0};
         if (g.wrap_v) {
@@ -394,9 +430,19 @@ GrooveField groove_field(const PixelGrid& g, const std::vector<CrackCurve>& curv
                 const Vec2 ab = b - a;
                 const double len = ab.norm();
                 const Vec2 dir = len > 0 ? Vec2(ab / len) : Vec2(1, 0), nrm(-dir.y(), dir.x());
-                const Vec2 ea = a - dir * s.extend_a, eb = b + dir * s.extend_b;
-                const std::array<Vec2, 4> corner{ea + nrm * s.reach, eb + nrm * s.reach, eb - nrm * s.reach,
-                                                 ea - nrm * s.reach};
+                // How far past a joint the wedge of pixels nearest to it reaches (plus a pixel).
+                auto past = [&](const Vec2& from, const Vec2& to, bool cap) {
+                    const Vec2 d((to.x() - from.x()) * mu, (to.y() - from.y()) * mv);
+                    const double dn = d.norm();
+                    if (cap || dn <= 0) return s.scan;
+                    const double cos_turn = d.dot(dir) / dn;
+                    if (cos_turn <= 0) return s.scan;
+                    return std::min(s.scan,
+                                    s.scan * std::sqrt(std::max(0.0, 1.0 - cos_turn * cos_turn)) + std::max(mu, mv));
+                };
+                const Vec2 ea = a - dir * past(s.before, s.a, s.cap_a), eb = b + dir * past(s.b, s.after, s.cap_b);
+                const std::array<Vec2, 4> corner{ea + nrm * s.scan, eb + nrm * s.scan, eb - nrm * s.scan,
+                                                 ea - nrm * s.scan};
                 const double ym = y * mv;
                 double xlo = 1e300, xhi = -1e300;
                 for (int e = 0; e < 4; ++e) {
@@ -414,9 +460,9 @@ GrooveField groove_field(const PixelGrid& g, const std::vector<CrackCurve>& curv
                     const Vec2 q(x * mu, ym);
                     const double t = len > 0 ? std::clamp((q - a).dot(ab) / (len * len), 0.0, 1.0) : 0.0;
                     const double d = (q - a - t * ab).norm();
-                    if (d > s.reach) continue;
+                    if (d > s.scan) continue;
                     PixelState& st = state[static_cast<std::size_t>((y - r0) * W + ((x % W) + W) % W)];
-                    st.nearest.offer(static_cast<float>(d), static_cast<float>(s.extent), curve, lerp(pa, pb, t));
+                    st.nearest.offer(static_cast<float>(d), static_cast<float>(s.extent), curve, pa, pb, t);
                 }
             }
         }

@@ -13,9 +13,10 @@
 /// grooves meet, the curves' distances join by a log-sum-exp smooth minimum and their profiles
 /// blend (plate corners round, no crease on the ridge between two grooves). Near a tip the
 /// floor closes over the groove's width, and with a tip length the width and depth taper too.
-/// The distance field is scan-converted per segment (each segment's rectangle of reach, Mauch
-/// 2000's characteristic-region idea), so the cost grows with crack length × reach, not with
-/// segments × reach².
+/// The distance field is scan-converted per segment (Mauch 2000's characteristic regions): each
+/// segment scans the rectangle of its curve's widest reach beside it, and past a joint only the
+/// wedge of pixels nearest to the joint (reach · sin of the turn); round caps only at the curve's
+/// ends. The cost grows with crack length × reach, not with segments × reach².
 
 #include "render/crack_curves.hpp"
 #include "render/distance.hpp"

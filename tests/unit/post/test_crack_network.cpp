@@ -6,6 +6,7 @@
 #include "io/preset.hpp"
 #include "post/pieces.hpp"
 #include "render/crack_curves.hpp"
+#include "support/simulated.hpp"
 
 #include <doctest/doctest.h>
 
@@ -17,20 +18,8 @@ using namespace crackle;
 
 namespace {
 
-struct Simulated {
-    app::SimulationResult run;
-    post::PieceMesh pieces;
-};
-
-Simulated simulate(const std::string& preset_name, int elements) {
-    io::PresetRequest request;
-    request.name_or_path = preset_name;
-    request.overrides = {"simulation.elements=" + std::to_string(elements)};
-    const io::Preset preset = io::load_preset(request);
-    StepTimes times;
-    Simulated s{app::run_simulation(preset, times), {}};
-    s.pieces = post::build_pieces(s.run.pattern, app::post_options(preset));
-    return s;
+test::Simulated simulate(const std::string& preset_name, int elements) {
+    return test::simulate(preset_name, {"simulation.elements=" + std::to_string(elements)});
 }
 
 /// Metres between two texture points of the pieces' surface.
@@ -47,7 +36,7 @@ TEST_SUITE("post") {
         for (const auto& [name, elements] :
              {std::pair<std::string, int>{"mud", 2000}, {"bark", 2000}, {"fruit", 3000}}) {
             CAPTURE(name);
-            const Simulated s = simulate(name, elements);
+            const test::Simulated s = simulate(name, elements);
             const post::PieceMesh& p = s.pieces;
             REQUIRE(!p.chains.empty());
             double length = 0, longest_step = 0;
@@ -101,7 +90,7 @@ TEST_SUITE("post") {
 
     TEST_CASE("crack network: at a junction the crack that runs straight on is one chain (a T's bar), its stem ends "
               "on it") {
-        const Simulated s = simulate("mud", 2000);
+        const test::Simulated s = simulate("mud", 2000);
         const post::PieceMesh& p = s.pieces;
         // Mud meets at T junctions (§5.5). With the bar one chain, a T is one chain end (its stem's)
         // and only a Y, where nothing runs straight on, three: chain ends per junction place stay
@@ -131,7 +120,7 @@ TEST_SUITE("post") {
     TEST_CASE("fem-split: a crack's opening across a periodic border is measured to the other lip's nearest image") {
         // Bark's fissures cross the cylinder's seam and the tile's top and bottom; before the fix the
         // lips of a crack across a border were a tile apart (openings of about 0.25 m).
-        const Simulated s = simulate("bark", 2000);
+        const test::Simulated s = simulate("bark", 2000);
         double widest = 0;
         for (const auto& c : s.run.pattern.cracks)
             widest = std::max(widest, c.opening);

@@ -11,6 +11,7 @@
 #include "render/groove.hpp"
 #include "render/shading.hpp"
 #include "support/gl_support.hpp"
+#include "support/simulated.hpp"
 
 #include <doctest/doctest.h>
 
@@ -19,6 +20,8 @@
 
 using namespace crackle;
 using render::PixelGrid;
+using test::simulate;
+using test::Simulated;
 
 namespace {
 
@@ -77,23 +80,6 @@ render::GrooveOptions options(const PixelGrid& g) {
     o.join_radius = 3 * g.metres_v;
     o.smoothing_px = 4;
     return o;
-}
-
-struct Simulated {
-    io::Preset preset;
-    app::SimulationResult run;
-    post::PieceMesh pieces;
-};
-
-Simulated simulate(const std::string& name, const std::vector<std::string>& overrides) {
-    io::PresetRequest request;
-    request.name_or_path = name;
-    request.overrides = overrides;
-    Simulated s{io::load_preset(request), {}, {}};
-    StepTimes times;
-    s.run = app::run_simulation(s.preset, times);
-    s.pieces = post::build_pieces(s.run.pattern, app::post_options(s.preset));
-    return s;
 }
 
 /// Share of the paths' total turning (|angle| between successive directions, each path
