@@ -17,16 +17,30 @@ constexpr int BLOCK_ROWS = 32;
 constexpr double PROFILE_BLEND = 4.0;
 /// Beyond its groove's extent a curve fades out of the join over this share of the extent.
 constexpr double FADE = 0.4;
-/// The steepest turn of a groove's slope between neighbouring pixels, on average over a fillet
-/// (the smoothstep turns 1.5× faster at its middle): narrower features would show as creases.
-constexpr double TURN_PER_PIXEL = 6.0 * PI / 180.0;
+/// The steepest turn of a groove's slope between neighbouring pixels anywhere on a fillet:
+/// narrower features would show as creases (the bound is 10° between neighbours).
+constexpr double TURN_PER_PIXEL = 9.0 * PI / 180.0;
+/// The share of a fillet over which its turning rate ramps up (and down again at its end).
+constexpr double RAMP = 0.15;
 
 double smooth01(double x) {
     x = std::clamp(x, 0.0, 1.0);
     return x * x * (3 - 2 * x);
 }
 
-/// J(α, ξ) = ∫₀^ξ tan(α · S(t)ᵉ) dt, S the smoothstep: the depth a fillet of unit length reaches
+/// A fillet's slope angle, as a share of its wall's, at t ∈ [0, 1] of its length: the rate of
+/// turning ramps up linearly over RAMP of the fillet, holds, and ramps down over the last RAMP
+/// (a circular arc with eased ends: its fastest turn is 1 / (1 − RAMP) of the mean, where a
+/// smoothstep's is 1.5, so the fillet is that much shorter for the same bound per pixel).
+double turned(double t) {
+    t = std::clamp(t, 0.0, 1.0);
+    const double rate = 1.0 / (1.0 - RAMP);
+    if (t < RAMP) return 0.5 * rate * t * t / RAMP;
+    if (t > 1.0 - RAMP) return 1.0 - 0.5 * rate * (1.0 - t) * (1.0 - t) / RAMP;
+    return rate * (0.5 * RAMP + (t - RAMP));
+}
+
+/// J(α, ξ) = ∫₀^ξ tan(α · S(t)ᵉ) dt, S = turned(): the depth a fillet of unit length reaches
 /// after ξ of it while the slope angle turns from 0 towards α (tabulated, bilinear). The
 /// exponent e ≥ 1 holds the slope back towards the fillet's start: e = 1 is a V-like groove
 /// whose slope grows evenly, a larger e a rounded ridge, flat on top and steep at the lip.
@@ -37,7 +51,7 @@ public:
         for (int k = 0; k < 1000; ++k) {
             const double t0 = k / 1000.0, t1 = (k + 1) / 1000.0;
             m_steepest =
-                std::max(m_steepest, (std::pow(smooth01(t1), exponent) - std::pow(smooth01(t0), exponent)) * 1000.0);
+                std::max(m_steepest, (std::pow(turned(t1), exponent) - std::pow(turned(t0), exponent)) * 1000.0);
         }
         const double max_alpha = MAX_WALL_DEG * PI / 180.0;
         for (int a = 0; a <= ALPHA_STEPS; ++a) {
@@ -46,13 +60,13 @@ public:
             m_table[index(a, 0)] = 0;
             for (int k = 0; k <= XI_STEPS; ++k)
                 m_slope[index(a, k)] =
-                    static_cast<float>(std::tan(alpha * std::pow(smooth01(double(k) / XI_STEPS), exponent)));
+                    static_cast<float>(std::tan(alpha * std::pow(turned(double(k) / XI_STEPS), exponent)));
             constexpr int SUB = 16; // Simpson's rule on each ξ step
             for (int k = 0; k < XI_STEPS; ++k) {
                 const double x0 = double(k) / XI_STEPS, h = 1.0 / XI_STEPS / SUB;
                 for (int s = 0; s < SUB; ++s) {
                     const double t0 = x0 + s * h;
-                    auto f = [&](double t) { return std::tan(alpha * std::pow(smooth01(t), exponent)); };
+                    auto f = [&](double t) { return std::tan(alpha * std::pow(turned(t), exponent)); };
                     sum += h / 6 * (f(t0) + 4 * f(t0 + h / 2) + f(t0 + h));
                 }
                 m_table[index(a, k + 1)] = static_cast<float>(sum);
@@ -293,7 +307,8 @@ GrooveField groove_field(const PixelGrid& g, const std::vector<CrackCurve>& curv
     // circle profiles do); the shape sets how late it steepens.
     const double top_exponent = 1.0 + 3.0 * o.crack_shape;
     const Fillets fillets{FilletTable(top_exponent), FilletTable(1.0)};
-    const double top_rate = fillets.top.steepest_turn(); // the lip fillet's fastest turn, in α per fillet length
+    // The fillets' fastest turns, in α per fillet length.
+    const double top_rate = fillets.top.steepest_turn(), bottom_rate = fillets.bottom.steepest_turn();
     std::vector<std::vector<Profile>> profiles(curves.size());
     std::vector<Segment> segs;
     for (std::size_t c = 0; c < curves.size(); ++c) {
@@ -329,17 +344,17 @@ GrooveField groove_field(const PixelGrid& g, const std::vector<CrackCurve>& curv
             p.reach = static_cast<float>(std::max(o.rounding, o.crack_width * w) * std::max(taper, 0.15));
             p.age = cv.age[i];
             // The fillets are at least as long as the map can show: the slope turns by at most
-            // TURN_PER_PIXEL per pixel. The wall's angle is known after a solve, and longer
-            // fillets make it gentler: from the steepest wall's, the fillets only lengthen, so
-            // the last profile's turns are within what its fillets were sized for.
+            // TURN_PER_PIXEL per pixel at the fillet's fastest. The wall's angle is known after a
+            // solve, and longer fillets make it gentler: from the steepest wall's, the fillets
+            // only lengthen, so the last profile's turns are within what its fillets were sized for.
             Profile solved;
             double least = 0;
             for (int pass = 0; pass < 4; ++pass) {
                 least = std::max(least, (pass == 0 ? MAX_WALL_DEG * PI / 180.0 : double(solved.alpha)) / TURN_PER_PIXEL
                                             * o.pixel);
-                p.fillet_bottom = static_cast<float>(std::max(o.rounding, least));
-                p.fillet_top = static_cast<float>(
-                    std::max({o.rounding, least * top_rate / 1.5, double(p.reach - p.fillet_bottom)}));
+                p.fillet_bottom = static_cast<float>(std::max(o.rounding, least * bottom_rate));
+                p.fillet_top =
+                    static_cast<float>(std::max({o.rounding, least * top_rate, double(p.reach - p.fillet_bottom)}));
                 solved = solve(p, fillets);
             }
             profiles[c][i] = solved;
