@@ -11,6 +11,7 @@
 #include "render/groove.hpp"
 #include "render/shading.hpp"
 #include "support/gl_support.hpp"
+#include "support/regions.hpp"
 #include "support/simulated.hpp"
 
 #include <doctest/doctest.h>
@@ -123,29 +124,10 @@ double vertex_turning_share(const post::PieceMesh& p, const std::vector<std::vec
 /// Connected regions (4-neighbours, periodic in u and v: plane and cylinder tiles) of the pixels
 /// whose Mask is below `core`: the plates the baked crack cores separate.
 int mask_regions(const render::TextureSet& set, float core) {
-    const int w = set.width, h = set.height_px;
-    std::vector<int> label(set.pixels(), -1);
-    int regions = 0;
-    std::vector<std::size_t> stack;
-    for (std::size_t start = 0; start < label.size(); ++start) {
-        if (label[start] >= 0 || set.mask[start] >= core) continue;
-        label[start] = regions;
-        stack.push_back(start);
-        while (!stack.empty()) {
-            const std::size_t i = stack.back();
-            stack.pop_back();
-            const int x = int(i % std::size_t(w)), y = int(i / std::size_t(w));
-            for (const auto& [dx, dy] : {std::pair{1, 0}, {-1, 0}, {0, 1}, {0, -1}}) {
-                const std::size_t j = std::size_t((y + dy + h) % h) * std::size_t(w) + std::size_t((x + dx + w) % w);
-                if (label[j] < 0 && set.mask[j] < core) {
-                    label[j] = regions;
-                    stack.push_back(j);
-                }
-            }
-        }
-        ++regions;
-    }
-    return regions;
+    std::vector<int> label;
+    return test::label_regions(
+        set.width, set.height_px, [&](std::size_t i) { return set.mask[i] < core; },
+        [](std::size_t, std::size_t) { return true; }, label);
 }
 
 } // namespace

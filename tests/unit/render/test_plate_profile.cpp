@@ -1,0 +1,128 @@
+// Plate profiles of the curves bake (issue 35): drying mud plates are flat topped, not domes
+// rounding down from their middles to their rims.
+#include "app/options.hpp"
+#include "render/bake.hpp"
+#include "support/gl_support.hpp"
+#include "support/presets.hpp"
+#include "support/regions.hpp"
+#include "support/simulated.hpp"
+
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <vector>
+
+using namespace crackle;
+
+namespace {
+
+struct PlateProfile {
+    int plates = 0;
+    double low_share = 0; ///< median over plates: share of the plate below 80 % of its top
+};
+
+double median(std::vector<double> v) {
+    if (v.empty()) return 0;
+    const auto k = v.size() / 2;
+    std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k), v.end());
+    return v[k];
+}
+
+double percentile(std::vector<double> v, double q) {
+    const auto k = static_cast<std::size_t>(q * double(v.size() - 1));
+    std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k), v.end());
+    return v[k];
+}
+
+/// The plates are the connected regions (4-neighbours, periodic) of one piece's ID outside the
+/// Mask (< 0.5), of at least 400 pixels. A plate's middle is its part farther than 3 × rim_px from
+/// the Mask, its top the 95th percentile of the middle's heights (so that a rim that curl lifts
+/// does not count as the top: a cupped plate is not a dome).
+PlateProfile plate_profile(const render::TextureSet& set, int rim_px) {
+    const int w = set.width, h = set.height_px;
+    const std::size_t n = set.pixels();
+    // Distance in pixels to the Mask (two-pass chamfer, periodic approximations ignored at the
+    // seams: the plates measured there are few).
+    std::vector<int> dist(n, 1 << 20);
+    for (std::size_t i = 0; i < n; ++i)
+        if (set.mask[i] >= 0.5f) dist[i] = 0;
+    for (int pass = 0; pass < 2; ++pass)
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                const int xx = pass ? w - 1 - x : x, yy = pass ? h - 1 - y : y, s = pass ? 1 : -1;
+                auto& d = dist[std::size_t(yy) * std::size_t(w) + std::size_t(xx)];
+                if (xx + s >= 0 && xx + s < w)
+                    d = std::min(d, dist[std::size_t(yy) * std::size_t(w) + std::size_t(xx + s)] + 1);
+                if (yy + s >= 0 && yy + s < h)
+                    d = std::min(d, dist[std::size_t(yy + s) * std::size_t(w) + std::size_t(xx)] + 1);
+            }
+    PlateProfile out;
+    std::vector<double> shares;
+    auto same = [&](std::size_t i, std::size_t j) {
+        return set.id[3 * i] == set.id[3 * j] && set.id[3 * i + 1] == set.id[3 * j + 1]
+               && set.id[3 * i + 2] == set.id[3 * j + 2];
+    };
+    std::vector<int> label;
+    const int regions = test::label_regions(
+        w, h, [&](std::size_t i) { return set.mask[i] < 0.5f; }, same, label);
+    std::vector<std::vector<std::size_t>> plates(static_cast<std::size_t>(regions));
+    for (std::size_t i = 0; i < n; ++i)
+        if (label[i] >= 0) plates[static_cast<std::size_t>(label[i])].push_back(i);
+    for (const std::vector<std::size_t>& members : plates) {
+        if (members.size() < 400) continue;
+        std::vector<double> all, middle;
+        for (const std::size_t i : members) {
+            all.push_back(set.height[i]);
+            if (dist[i] > 3 * rim_px) middle.push_back(set.height[i]);
+        }
+        if (middle.size() < 10) continue;
+        const double top = percentile(middle, 0.95);
+        if (top <= 0) continue;
+        shares.push_back(double(std::count_if(all.begin(), all.end(), [&](double v) { return v < 0.8 * top; }))
+                         / double(all.size()));
+    }
+    out.plates = static_cast<int>(shares.size());
+    out.low_share = median(shares);
+    return out;
+}
+
+} // namespace
+
+TEST_SUITE("render") {
+    TEST_CASE("bake (grooves = curves): the default mud's plates are flat topped, not domes (a wide rounding as the "
+              "failing control)") {
+        // Issue 35 asks this of mud and all its variants at 2048²; measured with this test's
+        // definition (2026-12-05): mud 13.7 %, thick 9.4 %, perturbed 13.6 %, thin 13.7 % pass;
+        // dry-riverbed 16.1 %, peeling-paint 17.4 %, curling-flakes 22.3 %, thickness-gradient
+        // 22.3 %, craquelure 44.5 % do not yet (their plates are narrower in pixels than the
+        // fillets need), so only mud is held to it here.
+        auto gl = test::gl_context_or_skip();
+        if (!gl) return;
+        // A quarter of the tile at 1024²: mud's own element density and the pixel size of the
+        // full tile at 2048², at a quarter of the cost.
+        const std::vector<double> size = test::load("mud").numbers("surface.size");
+        auto profile = [&](const std::vector<std::string>& extra) {
+            std::vector<std::string> overrides{"surface.size=[" + std::to_string(size[0] / 2) + ", "
+                                                   + std::to_string(size[1] / 2) + "]",
+                                               "simulation.tip_submodel=0",
+                                               "bake.grooves=\"curves\"",
+                                               "bake.fibre_depth=0",
+                                               "bake.flake_depth=0",
+                                               "bake.grit_depth=0",
+                                               "bake.size=1024"};
+            overrides.insert(overrides.end(), extra.begin(), extra.end());
+            const test::Simulated s = test::simulate("mud", overrides);
+            return plate_profile(render::bake(s.pieces, app::bake_options(s.preset, s.pieces), *gl), 8);
+        };
+        const PlateProfile flat = profile({});
+        MESSAGE("mud: " << flat.plates << " plates, " << 100 * flat.low_share << " % of a plate below 80 % of its top");
+        REQUIRE(flat.plates >= 30);
+        CHECK(flat.low_share <= 0.15);
+        // Control: plates rounded over 3 cm from their rims are domes.
+        const PlateProfile domed = profile({"bake.crack_width=0.03", "bake.crack_shape=0"});
+        MESSAGE("rounded over 3 cm: " << 100 * domed.low_share << " %");
+        CHECK(domed.low_share > 0.3);
+    }
+}
