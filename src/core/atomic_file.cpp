@@ -42,8 +42,17 @@ void unregister_temporary(int slot) {
 }
 
 std::atomic<int> g_committing{0};
+/// A signal that arrived on another thread during a commit (HeldSignals blocks them only on the
+/// committing thread; a pool or llvmpipe thread may take it): delivered when the commit ends.
+std::atomic<int> g_deferred{0};
 
 extern "C" void remove_temporaries_and_exit(int sig) {
+    if (g_committing.load() > 0) {
+        g_deferred.store(sig);
+        // Checked again: if the commit ended in between, its end saw no deferred signal.
+        if (g_committing.load() > 0) return;
+        g_deferred.store(0);
+    }
     remove_pending_temporaries();
     std::signal(sig, SIG_DFL);
     std::raise(sig);
@@ -198,7 +207,12 @@ void AtomicOutput::commit() {
     // A budget's hard stop waits while files are being renamed.
     struct Committing {
         Committing() { ++g_committing; }
-        ~Committing() { --g_committing; }
+        ~Committing() {
+            // A signal another thread deferred is raised on this one, where it is held until
+            // HeldSignals ends just after: the files are all old or all new by then.
+            if (--g_committing == 0)
+                if (const int sig = g_deferred.exchange(0)) std::raise(sig);
+        }
         Committing(const Committing&) = delete;
         Committing& operator=(const Committing&) = delete;
     } const committing;
