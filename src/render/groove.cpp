@@ -6,6 +6,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 namespace crackle::render {
 
@@ -13,7 +14,7 @@ namespace {
 
 constexpr double MAX_WALL_DEG = 80.0; ///< the steepest wall a groove gets (a wider groove instead)
 constexpr int ALPHA_STEPS = 160, XI_STEPS = 64;
-constexpr int BLOCK_ROWS = 32;
+constexpr int BLOCK_ROWS = 64;
 constexpr double PROFILE_BLEND = 4.0;
 /// Beyond its groove's extent a curve fades out of the join over this share of the extent.
 constexpr double FADE = 0.4;
@@ -22,6 +23,12 @@ constexpr double FADE = 0.4;
 constexpr double TURN_PER_PIXEL = 9.0 * PI / 180.0;
 /// The share of a fillet over which its turning rate ramps up (and down again at its end).
 constexpr double RAMP = 0.15;
+/// The profiles' parameters are smoothed over about this many pixels: a pixel's nearest point of a
+/// curve jumps across the inner side of a bend (and its nearest curves change where they meet),
+/// and the profile with it.
+constexpr int PROFILE_SMOOTH_PX = 1;
+/// Rows of a block's halo: the reach of the profiles' smoothing.
+constexpr int HALO = 3 * PROFILE_SMOOTH_PX;
 
 double smooth01(double x) {
     x = std::clamp(x, 0.0, 1.0);
@@ -46,7 +53,9 @@ double turned(double t) {
 /// whose slope grows evenly, a larger e a rounded ridge, flat on top and steep at the lip.
 class FilletTable {
 public:
-    explicit FilletTable(double exponent) {
+    /// `lift` ≥ 1 steepens the relief the fillet is cut into (see Fillets): row α turns evenly
+    /// in the slope angle that shows, atan(lift · tan α), and its slopes are divided by the lift.
+    explicit FilletTable(double exponent, double lift = 1.0) {
         m_steepest = 0;
         for (int k = 0; k < 1000; ++k) {
             const double t0 = k / 1000.0, t1 = (k + 1) / 1000.0;
@@ -55,18 +64,18 @@ public:
         }
         const double max_alpha = MAX_WALL_DEG * PI / 180.0;
         for (int a = 0; a <= ALPHA_STEPS; ++a) {
-            const double alpha = max_alpha * a / ALPHA_STEPS;
+            const double alpha = std::atan(lift * std::tan(max_alpha * a / ALPHA_STEPS));
             double sum = 0;
             m_table[index(a, 0)] = 0;
             for (int k = 0; k <= XI_STEPS; ++k)
                 m_slope[index(a, k)] =
-                    static_cast<float>(std::tan(alpha * std::pow(turned(double(k) / XI_STEPS), exponent)));
+                    static_cast<float>(std::tan(alpha * std::pow(turned(double(k) / XI_STEPS), exponent)) / lift);
             constexpr int SUB = 16; // Simpson's rule on each ξ step
             for (int k = 0; k < XI_STEPS; ++k) {
                 const double x0 = double(k) / XI_STEPS, h = 1.0 / XI_STEPS / SUB;
                 for (int s = 0; s < SUB; ++s) {
                     const double t0 = x0 + s * h;
-                    auto f = [&](double t) { return std::tan(alpha * std::pow(turned(t), exponent)); };
+                    auto f = [&](double t) { return std::tan(alpha * std::pow(turned(t), exponent)) / lift; };
                     sum += h / 6 * (f(t0) + 4 * f(t0 + h / 2) + f(t0 + h));
                 }
                 m_table[index(a, k + 1)] = static_cast<float>(sum);
@@ -98,9 +107,15 @@ private:
     double m_steepest = 1.5;
 };
 
-/// The lip fillet's table (its exponent from the groove's shape) and the floor fillet's.
+/// The lip fillet's table (its exponent from the groove's shape) and the floor fillet's. The
+/// curl's lift scales the groove's height by `lift` (1 + curl) at the floor (the relief is
+/// (top + lift) · (1 − share)), so the floor fillet turns evenly in the slope angle that shows,
+/// atan(lift · tan θ), not in θ (its table is built so).
 struct Fillets {
     FilletTable top, bottom;
+    double lift = 1;
+
+    double shown(double alpha) const { return std::atan(lift * std::tan(alpha)); }
 };
 
 /// The groove's cross-section at one curve point.
@@ -133,6 +148,77 @@ Profile lerp(const Profile& a, const Profile& b, double t) {
             mix(a.alpha, b.alpha),           mix(a.depth, b.depth),
             mix(a.share, b.share),           mix(a.age, b.age)};
 }
+
+/// The profiles of a block of rows (and the rows of its halo), one channel per parameter and one
+/// for the weight (1 where a pixel has a profile), smoothed together by three box passes of
+/// PROFILE_SMOOTH_PX each way, wrapping in u; then divided by the smoothed weight.
+class ProfileWindow {
+public:
+    ProfileWindow(int width, int rows)
+        : m_width(width), m_rows(rows), m_data(std::size_t(width) * std::size_t(rows) * CH, 0.0f) {}
+    void put(int x, int row, const Profile& p) {
+        float* c = at(x, row);
+        const std::array<float, CH> v{1.0f,    p.floor, p.reach, p.fillet_top, p.fillet_bottom,
+                                      p.alpha, p.depth, p.share, p.age};
+        std::copy(v.begin(), v.end(), c);
+    }
+    /// After smooth(): the pixel's profile, or none where no profile reached it.
+    std::optional<Profile> profile(int x, int row) const {
+        const float* c = at(x, row);
+        if (c[0] <= 1e-6f) return std::nullopt;
+        const float w = 1.0f / c[0];
+        return Profile{c[1] * w, c[2] * w, c[3] * w, c[4] * w, c[5] * w, c[6] * w, c[7] * w, c[8] * w};
+    }
+    void smooth(int radius) {
+        std::vector<double> sum(CH);
+        std::vector<float> line;
+        for (int pass = 0; pass < 3; ++pass) {
+            // Along the rows (wrapping), then along the columns (the window's edge rows only feed
+            // the halo, which is not kept).
+            for (int row = 0; row < m_rows; ++row)
+                box(at(0, row), m_width, CH, radius, true, sum, line);
+            for (int x = 0; x < m_width; ++x)
+                box(at(x, 0), m_rows, std::size_t(m_width) * CH, radius, false, sum, line);
+        }
+    }
+
+private:
+    static constexpr std::size_t CH = 9;
+    float* at(int x, int row) { return &m_data[(std::size_t(row) * std::size_t(m_width) + std::size_t(x)) * CH]; }
+    const float* at(int x, int row) const {
+        return &m_data[(std::size_t(row) * std::size_t(m_width) + std::size_t(x)) * CH];
+    }
+    /// The mean over 2·radius + 1 elements of each channel, `n` elements `stride` floats apart
+    /// (wrapping, or zero past the ends).
+    static void box(float* first, int n, std::size_t stride, int radius, bool wrap, std::vector<double>& sum,
+                    std::vector<float>& line) {
+        const auto r = static_cast<std::size_t>(radius), count = static_cast<std::size_t>(n);
+        line.assign((count + 2 * r) * CH, 0.0f);
+        for (std::size_t k = 0; k < count; ++k)
+            std::copy_n(first + k * stride, CH, &line[(k + r) * CH]);
+        if (wrap)
+            for (std::size_t k = 0; k < r; ++k) {
+                std::copy_n(&line[(count + k) * CH], CH, &line[k * CH]);           // before: the last r
+                std::copy_n(&line[(r + k) * CH], CH, &line[(count + r + k) * CH]); // after: the first r
+            }
+        std::fill(sum.begin(), sum.end(), 0.0);
+        for (std::size_t k = 0; k < 2 * r; ++k)
+            for (std::size_t c = 0; c < CH; ++c)
+                sum[c] += line[k * CH + c];
+        const double inv = 1.0 / double(2 * r + 1);
+        for (std::size_t k = 0; k < count; ++k) {
+            const float *in = &line[(k + 2 * r) * CH], *gone = &line[k * CH];
+            float* out = first + k * stride;
+            for (std::size_t c = 0; c < CH; ++c) {
+                sum[c] += in[c];
+                out[c] = static_cast<float>(sum[c] * inv);
+                sum[c] -= gone[c];
+            }
+        }
+    }
+    int m_width, m_rows;
+    std::vector<float> m_data;
+};
 
 /// The profile that reaches `depth` within `reach` with fillets `top`, `bottom`: α by bisection;
 /// a groove too narrow for its fillets or for MAX_WALL_DEG walls is widened.
@@ -306,7 +392,8 @@ GrooveField groove_field(const PixelGrid& g, const std::vector<CrackCurve>& curv
     // reach (the slope grows all the way to the floor fillet, as the raster grooves' t² and
     // circle profiles do); the shape sets how late it steepens.
     const double top_exponent = 1.0 + 3.0 * o.crack_shape;
-    const Fillets fillets{FilletTable(top_exponent), FilletTable(1.0)};
+    const double floor_lift = 1.0 + (o.curl > 0 && o.curl_reach > 0 ? o.curl : 0.0);
+    const Fillets fillets{FilletTable(top_exponent), FilletTable(1.0, floor_lift), floor_lift};
     // The fillets' fastest turns, in α per fillet length.
     const double top_rate = fillets.top.steepest_turn(), bottom_rate = fillets.bottom.steepest_turn();
     std::vector<std::vector<Profile>> profiles(curves.size());
@@ -348,11 +435,12 @@ GrooveField groove_field(const PixelGrid& g, const std::vector<CrackCurve>& curv
             // solve, and longer fillets make it gentler: from the steepest wall's, the fillets
             // only lengthen, so the last profile's turns are within what its fillets were sized for.
             Profile solved;
-            double least = 0;
+            double least = 0, least_floor = 0;
             for (int pass = 0; pass < 4; ++pass) {
-                least = std::max(least, (pass == 0 ? MAX_WALL_DEG * PI / 180.0 : double(solved.alpha)) / TURN_PER_PIXEL
-                                            * o.pixel);
-                p.fillet_bottom = static_cast<float>(std::max(o.rounding, least * bottom_rate));
+                const double wall = pass == 0 ? MAX_WALL_DEG * PI / 180.0 : double(solved.alpha);
+                least = std::max(least, wall / TURN_PER_PIXEL * o.pixel);
+                least_floor = std::max(least_floor, fillets.shown(wall) / TURN_PER_PIXEL * o.pixel);
+                p.fillet_bottom = static_cast<float>(std::max(o.rounding, least_floor * bottom_rate));
                 p.fillet_top =
                     static_cast<float>(std::max({o.rounding, least * top_rate, double(p.reach - p.fillet_bottom)}));
                 solved = solve(p, fillets);
@@ -416,7 +504,7 @@ GrooveField groove_field(const PixelGrid& g, const std::vector<CrackCurve>& curv
     std::vector<std::vector<std::pair<std::uint32_t, double>>> bins(static_cast<std::size_t>(blocks));
     for (std::size_t k = 0; k < segs.size(); ++k) {
         const Segment& s = segs[k];
-        const double reach_px = 2 * s.scan / g.metres_v + 1;
+        const double reach_px = 2 * s.scan / g.metres_v + 1 + HALO;
         const double y0 = std::min(s.a.y(), s.b.y()) - reach_px, y1 = std::max(s.a.y(), s.b.y()) + reach_px;
         std::vector<double> shifts{0.0};
         if (g.wrap_v) {
@@ -432,14 +520,18 @@ GrooveField groove_field(const PixelGrid& g, const std::vector<CrackCurve>& curv
     }
 
     parallel_rows(blocks, [&](int block) {
-        const int r0 = block * BLOCK_ROWS, r1 = std::min(H, r0 + BLOCK_ROWS);
-        std::vector<PixelState> state(static_cast<std::size_t>((r1 - r0) * W));
+        // The block's rows and a halo of HALO rows each side (wrapped in v, or left empty past
+        // the map's edge), for the profiles' smoothing.
+        const int r0 = block * BLOCK_ROWS, r1 = std::min(H, r0 + BLOCK_ROWS), h0 = r0 - HALO, rows = r1 - r0 + 2 * HALO;
+        auto grid_row = [&](int y) { return g.wrap_v ? ((y % H) + H) % H : (y >= 0 && y < H ? y : -1); };
+        std::vector<PixelState> state(static_cast<std::size_t>(rows * W));
         for (const auto& [k, shift] : bins[static_cast<std::size_t>(block)]) {
             const Segment& s = segs[k];
             const Profile &pa = profiles[s.curve][s.point], &pb = profiles[s.curve][s.point + 1];
             const auto curve = static_cast<std::int32_t>(s.curve);
-            for (int y = r0; y < r1; ++y) {
-                const double mu = g.metres_u[static_cast<std::size_t>(y)], mv = g.metres_v;
+            for (int y = h0; y < h0 + rows; ++y) {
+                if (grid_row(y) < 0) continue;
+                const double mu = g.metres_u[static_cast<std::size_t>(grid_row(y))], mv = g.metres_v;
                 // The segment in this row's metres.
                 const Vec2 a(s.a.x() * mu, (s.a.y() + shift) * mv), b(s.b.x() * mu, (s.b.y() + shift) * mv);
                 const Vec2 ab = b - a;
@@ -476,26 +568,42 @@ GrooveField groove_field(const PixelGrid& g, const std::vector<CrackCurve>& curv
                     const double t = len > 0 ? std::clamp((q - a).dot(ab) / (len * len), 0.0, 1.0) : 0.0;
                     const double d = (q - a - t * ab).norm();
                     if (d > s.scan) continue;
-                    PixelState& st = state[static_cast<std::size_t>((y - r0) * W + ((x % W) + W) % W)];
+                    PixelState& st = state[static_cast<std::size_t>((y - h0) * W + ((x % W) + W) % W)];
                     st.nearest.offer(static_cast<float>(d), static_cast<float>(s.extent), curve, pa, pb, t);
                 }
             }
         }
-        // === Where grooves meet, their distances join smoothly (join_nearest); the groove's
-        // drop, the curl's lift and the floor's coverage follow from the joined distance.
+        // === Where grooves meet, their distances join smoothly (join_nearest); the profiles are
+        // smoothed over the block and its halo.
+        ProfileWindow window(W, rows);
+        std::vector<float> distance(static_cast<std::size_t>(rows * W), std::numeric_limits<float>::infinity());
+        for (int row = 0; row < rows; ++row)
+            for (int x = 0; x < W; ++x) {
+                const std::size_t j = static_cast<std::size_t>(row * W + x);
+                const Nearest& n = state[j].nearest;
+                if (std::all_of(n.curve.begin(), n.curve.end(), [](std::int32_t c) { return c < 0; })) continue;
+                const auto [d, p] = join_nearest(n, o.join_radius);
+                if (!std::isfinite(d)) continue;
+                distance[j] = static_cast<float>(d);
+                window.put(x, row, p);
+            }
+        window.smooth(PROFILE_SMOOTH_PX);
+        // === The groove's drop, the curl's lift and the floor's coverage from the joined distance.
         for (int y = r0; y < r1; ++y) {
             const double pixel = std::min(g.metres_u[static_cast<std::size_t>(y)], g.metres_v);
             for (int x = 0; x < W; ++x) {
-                const PixelState& st = state[static_cast<std::size_t>((y - r0) * W + x)];
-                if (std::all_of(st.nearest.curve.begin(), st.nearest.curve.end(), [](std::int32_t c) { return c < 0; }))
-                    continue;
+                const double d = distance[static_cast<std::size_t>((y - h0) * W + x)];
+                const std::optional<Profile> found = window.profile(x, y - h0);
+                if (!std::isfinite(d) || !found) continue;
+                const Profile& p = *found;
                 const std::size_t i = g.index(x, y);
-                const auto [d, p] = join_nearest(st.nearest, o.join_radius);
-                if (!std::isfinite(d)) continue;
                 const double share = p.depth > 0 ? p.share * p.drop(d, fillets) / p.depth : 0.0;
                 // Curl lifts the rim as the post stage does (Fig. 4.11): by curl · (1 − d/reach)²
-                // from the plate's edge (the floor's), concave, highest at the lip.
-                const double from_lip = std::max(0.0, d - p.floor);
+                // from the plate's edge (the floor's), concave, highest at the lip; the distance from the
+                // floor's edge is eased over the floor fillet, so the lift meets the floor without a crease.
+                const double fb = std::max(double(p.fillet_bottom), 1e-12);
+                double from_lip = std::max(0.0, d - p.floor);
+                from_lip = from_lip < fb ? from_lip * from_lip / (2 * fb) : from_lip - 0.5 * fb;
                 const double lift =
                     o.curl > 0 && o.curl_reach > 0 ? o.curl * sqr(std::max(0.0, 1.0 - from_lip / o.curl_reach)) : 0.0;
                 const double half = std::max(double(p.floor), 0.5 * pixel);

@@ -49,7 +49,7 @@ Relief shape_relief_curves(const RasterLayers& layers, const std::vector<CrackCu
     go.curl = o.curl;
     go.smoothing_px = std::max(2.0, sigma_px);
     go.pixel = std::max(g.metres_v, g.metres_u[static_cast<std::size_t>(g.height / 2)]);
-    go.join_radius = 4.0 * go.pixel;
+    go.join_radius = 6.0 * go.pixel;
     double mean_top = 0;
     for (float h : top)
         mean_top += h;

@@ -252,10 +252,10 @@ TEST_SUITE("render") {
     }
 
     TEST_CASE("bake (grooves = curves): no faceted walls within 6 px of the cracks (crack pixels counted) at 2048², "
-              "bark on a cylinder and fruit on a sphere") {
+              "mud on a plane, bark on a cylinder and fruit on a sphere") {
         auto gl = test::gl_context_or_skip();
         if (!gl) return;
-        for (const std::string name : {"bark", "fruit"}) {
+        for (const std::string name : {"mud", "bark", "fruit"}) {
             CAPTURE(name);
             const Simulated s = simulate(name, {"bake.grooves=\"curves\"", "bake.fibre_depth=0", "bake.flake_depth=0",
                                                 "bake.grit_depth=0", "bake.size=2048"});
@@ -263,7 +263,8 @@ TEST_SUITE("render") {
             REQUIRE(bo.relief.curves);
             const render::TextureSet set = render::bake(s.pieces, bo, *gl);
             // The 99th percentile of the angle between neighbouring pixels' normals within 6 px of a
-            // crack (the Mask), as the issue measures it on the lit normal map.
+            // crack (the Mask), as the issue measures it on the lit normal map. The raster bake of
+            // the same maps: mud 128°, bark 58°, fruit 143° (docs/user-guide.md, "Crack grooves").
             PixelGrid g;
             g.width = set.width;
             g.height = set.height_px;
