@@ -122,6 +122,7 @@ render::BakeOptions bake_options(const io::Preset& preset, const post::PieceMesh
     r.wander = preset.number("bake.crack_wander");
     r.wander_wavelength = preset.number("bake.crack_wander_wavelength");
     r.tip_length = preset.number("bake.tip_length");
+    r.shape_size = static_cast<int>(preset.integer("bake.shape_size"));
     r.fibre = {preset.number("bake.fibre_depth"), preset.number("bake.fibre_size"),
                preset.number("bake.fibre_stretch")};
     r.flake = {preset.number("bake.flake_depth"), preset.number("bake.flake_size"),

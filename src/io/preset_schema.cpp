@@ -234,6 +234,11 @@ std::vector<KeySpec> build_schema() {
                        "only. At most a twelfth of the wavelength."));
     s.push_back(number("bake", "crack_wander_wavelength", 0.0, "m", 0.0, 1.0,
                        "Wavelength of the crack paths' wander; 0 = four element lengths."));
+    s.push_back(integer("bake", "shape_size", 2048, "px", 256, 16384,
+                        "With grooves = \"curves\": the map size (pixels across u) the groove shapes are sized "
+                        "for, their slopes turning by at most 9° per pixel there. The shapes are the same in "
+                        "metres at every map size (smoother per pixel on larger maps, crisper on smaller ones); "
+                        "raise it for crisper grooves when baking larger maps."));
     s.push_back(number("bake", "tip_length", 0.0, "m", 0.0, 1.0,
                        "Over how much of its length a crack's groove narrows and shallows towards a tip, "
                        "closing to a hairline; 0 = grooves keep their width to the tip."));

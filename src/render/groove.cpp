@@ -396,6 +396,7 @@ GrooveField groove_field(const PixelGrid& g, const std::vector<CrackCurve>& curv
     const Fillets fillets{FilletTable(top_exponent), FilletTable(1.0, floor_lift), floor_lift};
     // The fillets' fastest turns, in α per fillet length.
     const double top_rate = fillets.top.steepest_turn(), bottom_rate = fillets.bottom.steepest_turn();
+    const double shape_pixel = o.shape_pixel > 0 ? o.shape_pixel : o.pixel;
     std::vector<std::vector<Profile>> profiles(curves.size());
     std::vector<Segment> segs;
     for (std::size_t c = 0; c < curves.size(); ++c) {
@@ -438,8 +439,8 @@ GrooveField groove_field(const PixelGrid& g, const std::vector<CrackCurve>& curv
             double least = 0, least_floor = 0;
             for (int pass = 0; pass < 4; ++pass) {
                 const double wall = pass == 0 ? MAX_WALL_DEG * PI / 180.0 : double(solved.alpha);
-                least = std::max(least, wall / TURN_PER_PIXEL * o.pixel);
-                least_floor = std::max(least_floor, fillets.shown(wall) / TURN_PER_PIXEL * o.pixel);
+                least = std::max(least, wall / TURN_PER_PIXEL * shape_pixel);
+                least_floor = std::max(least_floor, fillets.shown(wall) / TURN_PER_PIXEL * shape_pixel);
                 p.fillet_bottom = static_cast<float>(std::max(o.rounding, least_floor * bottom_rate));
                 p.fillet_top =
                     static_cast<float>(std::max({o.rounding, least * top_rate, double(p.reach - p.fillet_bottom)}));

@@ -33,8 +33,9 @@ struct GrooveOptions {
     double curl = 0;           ///< post.curl: rim lift at the lip, in layer heights
     double curl_reach = 0;     ///< m: how far from the lip the lift reaches (post.curl_width × the height)
     double join_radius = 1e-3; ///< m: where cracks meet, the plates' corners round in plan by about this
-    double pixel = 1e-3;       ///< m: the map's pixel (the fillets are at least a few pixels long)
-    double smoothing_px = 0;   ///< px: the plate height along a curve is averaged over this each way
+    double pixel = 1e-3;       ///< m: the map's pixel
+    double shape_pixel = 0; ///< m: the pixel the shapes are sized for (fillets turn ≤ 9° per such pixel; 0 = `pixel`)
+    double smoothing_px = 0; ///< px: the plate height along a curve is averaged over this each way
 };
 
 /// Per pixel of the grid.

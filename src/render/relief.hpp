@@ -29,6 +29,7 @@ struct ReliefOptions {
     double wander = 0;               ///< m: crack curves' sub-element wander amplitude (bake.crack_wander)
     double wander_wavelength = 0;    ///< m: its wavelength (bake.crack_wander_wavelength; 0 = 4 elements)
     double tip_length = 0;           ///< m: grooves taper to a hairline over this length at tips (bake.tip_length)
+    int shape_size = 2048;           ///< px across u the curve grooves' shapes are sized for (bake.shape_size)
     double bevel = 0;                ///< post.bevel (m): the least rounding of every lip
     double curl = 0, curl_width = 3; ///< post.curl, post.curl_width (layer thicknesses)
     double element_size = 0;         ///< m: the simulation's facet size (smoothing scale)

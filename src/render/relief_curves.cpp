@@ -49,7 +49,10 @@ Relief shape_relief_curves(const RasterLayers& layers, const std::vector<CrackCu
     go.curl = o.curl;
     go.smoothing_px = std::max(2.0, sigma_px);
     go.pixel = std::max(g.metres_v, g.metres_u[static_cast<std::size_t>(g.height / 2)]);
-    go.join_radius = 6.0 * go.pixel;
+    // The shapes are sized for a map of bake.shape_size pixels across u, so a groove keeps its
+    // shape in metres at every map size (finer maps are smoother per pixel, coarser ones crisper).
+    go.shape_pixel = go.pixel * g.width / std::max(o.shape_size, 1);
+    go.join_radius = 6.0 * go.shape_pixel;
     double mean_top = 0;
     for (float h : top)
         mean_top += h;

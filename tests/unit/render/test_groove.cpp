@@ -295,6 +295,45 @@ TEST_SUITE("render") {
         }
     }
 
+    TEST_CASE("bake (grooves = curves): the grooves have the same shape in metres at every map size (fillets sized "
+              "per pixel of each map as the failing control)") {
+        // Measured on mud, seed 1, 2000 elements (2026-12-06): the 512-px height map against the
+        // 1024-px one averaged 2 × 2, mean difference 32 µm (0.3 % of the 11.6 mm range); with the
+        // shapes sized per pixel of each map (bake.shape_size = the map's size, as before the key
+        // existed) 1.7 mm, and the 512-px map's range shrinks to 7.9 mm (its fillets are 4× longer).
+        auto gl = test::gl_context_or_skip();
+        if (!gl) return;
+        const Simulated s = simulate("mud", {"simulation.elements=2000", "bake.grooves=\"curves\"",
+                                             "bake.fibre_depth=0", "bake.flake_depth=0", "bake.grit_depth=0"});
+        auto heights = [&](int size, int shape_size) {
+            render::BakeOptions bo = app::bake_options(s.preset, s.pieces);
+            bo.width = bo.height = size;
+            bo.relief.shape_size = shape_size;
+            return render::bake(s.pieces, bo, *gl).height;
+        };
+        auto mean_difference = [&](int shape_small, int shape_large) {
+            const std::vector<float> small = heights(512, shape_small), large = heights(1024, shape_large);
+            double sum = 0;
+            for (int y = 0; y < 512; ++y)
+                for (int x = 0; x < 512; ++x) {
+                    auto at = [&](int xx, int yy) { return double(large[std::size_t(yy) * 1024 + std::size_t(xx)]); };
+                    const double mean =
+                        0.25
+                        * (at(2 * x, 2 * y) + at(2 * x + 1, 2 * y) + at(2 * x, 2 * y + 1) + at(2 * x + 1, 2 * y + 1));
+                    sum += std::abs(double(small[std::size_t(y) * 512 + std::size_t(x)]) - mean);
+                }
+            return sum / (512.0 * 512.0);
+        };
+        const std::vector<float> reference = heights(1024, 2048);
+        const double depth = *std::max_element(reference.begin(), reference.end());
+        const double same = mean_difference(2048, 2048), per_pixel = mean_difference(512, 1024);
+        MESSAGE("mean height difference 512 vs 1024 px: " << 1e6 * same << " µm with the shapes sized for 2048 px, "
+                                                          << 1e6 * per_pixel << " µm sized per pixel of each map ("
+                                                          << 1e6 * depth << " µm range)");
+        CHECK(same < 0.01 * depth);
+        CHECK(per_pixel > 0.05 * depth);
+    }
+
     TEST_CASE("bake (grooves = curves): the crack cores in the Mask cut the map into the simulated pieces, no more and "
               "no fewer (plane and cylinder)") {
         // Topology kept (issue 35): the smoothed, wandering curves neither join two pieces (a gap in a

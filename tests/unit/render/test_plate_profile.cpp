@@ -117,8 +117,8 @@ TEST_SUITE("render") {
         // fillets need), so only mud is held to it here.
         auto gl = test::gl_context_or_skip();
         if (!gl) return;
-        // A quarter of the tile at 1024²: mud's own element density and the pixel size of the
-        // full tile at 2048², at a quarter of the cost.
+        // A quarter of the tile at 1024²: mud's own element density and the pixel size (and groove
+        // shapes: bake.shape_size) of the full tile at 2048², at a quarter of the cost.
         const std::vector<double> size = test::load("mud").numbers("surface.size");
         auto profile = [&](const std::vector<std::string>& extra) {
             std::vector<std::string> overrides{"surface.size=[" + std::to_string(size[0] / 2) + ", "
@@ -128,7 +128,8 @@ TEST_SUITE("render") {
                                                "bake.fibre_depth=0",
                                                "bake.flake_depth=0",
                                                "bake.grit_depth=0",
-                                               "bake.size=1024"};
+                                               "bake.size=1024",
+                                               "bake.shape_size=1024"};
             overrides.insert(overrides.end(), extra.begin(), extra.end());
             const test::Simulated s = test::simulate("mud", overrides);
             return plate_profile(render::bake(s.pieces, app::bake_options(s.preset, s.pieces), *gl), 8);
