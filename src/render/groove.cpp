@@ -1,6 +1,7 @@
 #include "render/groove.hpp"
 
 #include "core/parallel.hpp"
+#include "render/fillet.hpp"
 
 #include <algorithm>
 #include <array>
@@ -12,8 +13,6 @@ namespace crackle::render {
 
 namespace {
 
-constexpr double MAX_WALL_DEG = 80.0; ///< the steepest wall a groove gets (a wider groove instead)
-constexpr int ALPHA_STEPS = 160, XI_STEPS = 64;
 constexpr int BLOCK_ROWS = 64;
 constexpr double PROFILE_BLEND = 4.0;
 /// Beyond its groove's extent a curve fades out of the join over this share of the extent.
@@ -21,8 +20,6 @@ constexpr double FADE = 0.4;
 /// The steepest turn of a groove's slope between neighbouring pixels anywhere on a fillet:
 /// narrower features would show as creases (the bound is 10° between neighbours).
 constexpr double TURN_PER_PIXEL = 9.0 * PI / 180.0;
-/// The share of a fillet over which its turning rate ramps up (and down again at its end).
-constexpr double RAMP = 0.15;
 /// The profiles' parameters are smoothed over about this many pixels: a pixel's nearest point of a
 /// curve jumps across the inner side of a bend (and its nearest curves change where they meet),
 /// and the profile with it.
@@ -34,89 +31,6 @@ double smooth01(double x) {
     x = std::clamp(x, 0.0, 1.0);
     return x * x * (3 - 2 * x);
 }
-
-/// A fillet's slope angle, as a share of its wall's, at t ∈ [0, 1] of its length: the rate of
-/// turning ramps up linearly over RAMP of the fillet, holds, and ramps down over the last RAMP
-/// (a circular arc with eased ends: its fastest turn is 1 / (1 − RAMP) of the mean, where a
-/// smoothstep's is 1.5, so the fillet is that much shorter for the same bound per pixel).
-double turned(double t) {
-    t = std::clamp(t, 0.0, 1.0);
-    const double rate = 1.0 / (1.0 - RAMP);
-    if (t < RAMP) return 0.5 * rate * t * t / RAMP;
-    if (t > 1.0 - RAMP) return 1.0 - 0.5 * rate * (1.0 - t) * (1.0 - t) / RAMP;
-    return rate * (0.5 * RAMP + (t - RAMP));
-}
-
-/// J(α, ξ) = ∫₀^ξ tan(α · S(t)ᵉ) dt, S = turned(): the depth a fillet of unit length reaches
-/// after ξ of it while the slope angle turns from 0 towards α (tabulated, bilinear). The
-/// exponent e ≥ 1 holds the slope back towards the fillet's start: e = 1 is a V-like groove
-/// whose slope grows evenly, a larger e a rounded ridge, flat on top and steep at the lip.
-class FilletTable {
-public:
-    /// `lift` ≥ 1 steepens the relief the fillet is cut into (see Fillets): row α turns evenly
-    /// in the slope angle that shows, atan(lift · tan α), and its slopes are divided by the lift.
-    explicit FilletTable(double exponent, double lift = 1.0) {
-        m_steepest = 0;
-        for (int k = 0; k < 1000; ++k) {
-            const double t0 = k / 1000.0, t1 = (k + 1) / 1000.0;
-            m_steepest =
-                std::max(m_steepest, (std::pow(turned(t1), exponent) - std::pow(turned(t0), exponent)) * 1000.0);
-        }
-        const double max_alpha = MAX_WALL_DEG * PI / 180.0;
-        for (int a = 0; a <= ALPHA_STEPS; ++a) {
-            const double alpha = std::atan(lift * std::tan(max_alpha * a / ALPHA_STEPS));
-            double sum = 0;
-            m_table[index(a, 0)] = 0;
-            for (int k = 0; k <= XI_STEPS; ++k)
-                m_slope[index(a, k)] =
-                    static_cast<float>(std::tan(alpha * std::pow(turned(double(k) / XI_STEPS), exponent)) / lift);
-            constexpr int SUB = 16; // Simpson's rule on each ξ step
-            for (int k = 0; k < XI_STEPS; ++k) {
-                const double x0 = double(k) / XI_STEPS, h = 1.0 / XI_STEPS / SUB;
-                for (int s = 0; s < SUB; ++s) {
-                    const double t0 = x0 + s * h;
-                    auto f = [&](double t) { return std::tan(alpha * std::pow(turned(t), exponent)) / lift; };
-                    sum += h / 6 * (f(t0) + 4 * f(t0 + h / 2) + f(t0 + h));
-                }
-                m_table[index(a, k + 1)] = static_cast<float>(sum);
-            }
-        }
-    }
-    /// The fastest the slope angle turns, in α per unit of fillet length: max of d/dt Sᵉ.
-    double steepest_turn() const { return m_steepest; }
-
-    double operator()(double alpha, double xi) const {
-        const double fa = std::clamp(alpha / (MAX_WALL_DEG * PI / 180.0), 0.0, 1.0) * ALPHA_STEPS;
-        const double fx = std::clamp(xi, 0.0, 1.0) * XI_STEPS;
-        const int a = std::min(static_cast<int>(fa), ALPHA_STEPS - 1), x = std::min(static_cast<int>(fx), XI_STEPS - 1);
-        const double sa = fa - a, sx = fx - x;
-        // Cubic Hermite in ξ with the exact slopes (dJ/dξ = tan(α Sᵉ)): the groove's slope is
-        // continuous between the table's nodes (linear interpolation would band the normals).
-        const double h00 = (2 * sx - 3) * sx * sx + 1, h10 = ((sx - 2) * sx + 1) * sx, h01 = (3 - 2 * sx) * sx * sx,
-                     h11 = (sx - 1) * sx * sx, step = 1.0 / XI_STEPS;
-        auto at = [&](int row) {
-            return h00 * m_table[index(row, x)] + h10 * step * m_slope[index(row, x)] + h01 * m_table[index(row, x + 1)]
-                   + h11 * step * m_slope[index(row, x + 1)];
-        };
-        return (1 - sa) * at(a) + sa * at(a + 1);
-    }
-
-private:
-    static std::size_t index(int a, int x) { return static_cast<std::size_t>(a * (XI_STEPS + 1) + x); }
-    std::array<float, (ALPHA_STEPS + 1) * (XI_STEPS + 1)> m_table{}, m_slope{};
-    double m_steepest = 1.5;
-};
-
-/// The lip fillet's table (its exponent from the groove's shape) and the floor fillet's. The
-/// curl's lift scales the groove's height by `lift` (1 + curl) at the floor (the relief is
-/// (top + lift) · (1 − share)), so the floor fillet turns evenly in the slope angle that shows,
-/// atan(lift · tan θ), not in θ (its table is built so).
-struct Fillets {
-    FilletTable top, bottom;
-    double lift = 1;
-
-    double shown(double alpha) const { return std::atan(lift * std::tan(alpha)); }
-};
 
 /// The groove's cross-section at one curve point.
 struct Profile {
