@@ -345,8 +345,8 @@ GrooveField groove_field(const PixelGrid& g, const std::vector<CrackCurve>& curv
             p.depth = static_cast<float>(top_here[i] * p.share);
             p.reach = static_cast<float>(std::max(o.rounding, o.crack_width * w) * std::max(taper, 0.15));
             p.age = cv.age[i];
-            // The fillets are at least as long as the map can show: the slope turns by at most
-            // TURN_PER_PIXEL per pixel at the fillet's fastest. The wall's angle is known after a
+            // The fillets are long enough that the slope turns by at most TURN_PER_PIXEL per shape
+            // pixel (bake.shape_size) at the fillet's fastest. The wall's angle is known after a
             // solve, and longer fillets make it gentler: from the steepest wall's, the fillets
             // only lengthen, so the last profile's turns are within what its fillets were sized for.
             Profile solved;

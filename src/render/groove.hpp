@@ -9,7 +9,9 @@
 /// The slope angle turns at a bounded rate (α over a fillet length in metres), so the walls are
 /// smooth across the curve's points and the normal map has no creases at the lips; α is solved
 /// so that the groove reaches its depth (the groove widens where a deep crack would otherwise
-/// need walls steeper than MAX_WALL_DEG, or fillets shorter than the map can show). Where
+/// need walls steeper than MAX_WALL_DEG, or fillets shorter than the shape pixel allows). The
+/// profiles are smoothed over a pixel and a half (the nearest curve point jumps across the
+/// inner side of a bend). Where
 /// grooves meet, the curves' distances join by a log-sum-exp smooth minimum and their profiles
 /// blend (plate corners round, no crease on the ridge between two grooves). Near a tip the
 /// floor closes over the groove's width, and with a tip length the width and depth taper too.
