@@ -176,19 +176,20 @@ struct Segment {
 };
 
 /// The nearest few distinct curves of a pixel: each curve's distance (the least over its
-/// segments) and its profile there.
+/// segments) and where on which segment it is met (the profile is interpolated there when the
+/// curves are joined: most offers are overtaken by a nearer one).
 struct Nearest {
     static constexpr int SLOTS = 4;
     std::array<float, SLOTS> distance{}, extent{};
     std::array<std::int32_t, SLOTS> curve{-1, -1, -1, -1};
-    std::array<Profile, SLOTS> profile{};
+    std::array<std::uint32_t, SLOTS> segment{};
+    std::array<double, SLOTS> t{};
 
-    /// The profile is interpolated only when the offer is kept (most offers are not).
-    void offer(float d, float reach, std::int32_t c, const Profile& pa, const Profile& pb, double t) {
+    void offer(float d, float reach, std::int32_t c, std::uint32_t k, double at) {
         int slot = -1, farthest = 0;
-        for (int k = 0; k < SLOTS; ++k) {
-            if (curve[k] == c) slot = k;
-            if (curve[k] < 0 || (curve[farthest] >= 0 && distance[k] > distance[farthest])) farthest = k;
+        for (int i = 0; i < SLOTS; ++i) {
+            if (curve[i] == c) slot = i;
+            if (curve[i] < 0 || (curve[farthest] >= 0 && distance[i] > distance[farthest])) farthest = i;
         }
         if (slot < 0) {
             if (curve[farthest] >= 0 && distance[farthest] <= d) return;
@@ -196,13 +197,8 @@ struct Nearest {
         } else if (distance[slot] <= d) {
             return;
         }
-        curve[slot] = c, distance[slot] = d, extent[slot] = reach, profile[slot] = lerp(pa, pb, t);
+        curve[slot] = c, distance[slot] = d, extent[slot] = reach, segment[slot] = k, t[slot] = at;
     }
-};
-
-/// What a pixel gathers from the segments whose rectangles cover it.
-struct PixelState {
-    Nearest nearest;
 };
 
 /// The curves' distances joined by a smooth minimum, −r·ln Σ exp(−dᵢ/r) (symmetric in the
@@ -211,7 +207,7 @@ struct PixelState {
 /// by about r, and the ridge between two grooves has a rounded crest, with no crease along the
 /// line of equal distance. A curve nearer than the others by several r keeps its own distance
 /// and profile.
-std::pair<double, Profile> join_nearest(const Nearest& n, double r) {
+template <class ProfileOf> std::pair<double, Profile> join_nearest(const Nearest& n, double r, ProfileOf&& profile_of) {
     double least = std::numeric_limits<double>::infinity();
     for (int k = 0; k < Nearest::SLOTS; ++k)
         if (n.curve[k] >= 0) least = std::min(least, double(n.distance[k]));
@@ -227,12 +223,12 @@ std::pair<double, Profile> join_nearest(const Nearest& n, double r) {
         sum += fade * std::exp(-(n.distance[k] - least) / r);
         w[k] = fade * std::exp(-(n.distance[k] - least) / (PROFILE_BLEND * r));
     }
-    if (sum <= 1e-12) return {std::numeric_limits<double>::infinity(), n.profile[0]};
+    if (sum <= 1e-12) return {std::numeric_limits<double>::infinity(), Profile{}};
     Profile p;
     double seen = 0;
     for (int k = 0; k < Nearest::SLOTS; ++k) {
         if (w[k] <= 0) continue;
-        p = seen == 0 ? n.profile[k] : lerp(p, n.profile[k], w[k] / (seen + w[k]));
+        p = seen == 0 ? profile_of(k) : lerp(p, profile_of(k), w[k] / (seen + w[k]));
         seen += w[k];
     }
     return {std::max(least - r * std::log(sum), 0.0), p};
@@ -313,7 +309,8 @@ GrooveField groove_field(const PixelGrid& g, const std::vector<CrackCurve>& curv
     const double shape_pixel = o.shape_pixel > 0 ? o.shape_pixel : o.pixel;
     std::vector<std::vector<Profile>> profiles(curves.size());
     std::vector<Segment> segs;
-    for (std::size_t c = 0; c < curves.size(); ++c) {
+    parallel_rows(static_cast<int>(curves.size()), [&](int curve) {
+        const auto c = static_cast<std::size_t>(curve);
         const CrackCurve& cv = curves[c];
         const std::size_t n = cv.uv.size();
         profiles[c].resize(n);
@@ -362,7 +359,10 @@ GrooveField groove_field(const PixelGrid& g, const std::vector<CrackCurve>& curv
             }
             profiles[c][i] = solved;
         }
-        for (std::size_t i = 0; i + 1 < n; ++i) {
+    });
+    for (std::size_t c = 0; c < curves.size(); ++c) {
+        const CrackCurve& cv = curves[c];
+        for (std::size_t i = 0; i + 1 < cv.uv.size(); ++i) {
             Segment s;
             s.a = to_px(cv.uv[i]);
             s.b = to_px(cv.uv[i + 1]);
@@ -439,32 +439,39 @@ GrooveField groove_field(const PixelGrid& g, const std::vector<CrackCurve>& curv
         // the map's edge), for the profiles' smoothing.
         const int r0 = block * BLOCK_ROWS, r1 = std::min(H, r0 + BLOCK_ROWS), h0 = r0 - HALO, rows = r1 - r0 + 2 * HALO;
         auto grid_row = [&](int y) { return g.wrap_v ? ((y % H) + H) % H : (y >= 0 && y < H ? y : -1); };
-        std::vector<PixelState> state(static_cast<std::size_t>(rows * W));
+        std::vector<Nearest> state(static_cast<std::size_t>(rows * W));
         for (const auto& [k, shift] : bins[static_cast<std::size_t>(block)]) {
             const Segment& s = segs[k];
-            const Profile &pa = profiles[s.curve][s.point], &pb = profiles[s.curve][s.point + 1];
             const auto curve = static_cast<std::int32_t>(s.curve);
+            // The segment and its rectangle in a row's metres (recomputed only where the metres
+            // per pixel in u change: on the sphere).
+            double mu = -1;
+            const double mv = g.metres_v;
+            Vec2 a(0, 0), ab(0, 0);
+            double len = 0;
+            std::array<Vec2, 4> corner{a, a, a, a};
             for (int y = h0; y < h0 + rows; ++y) {
                 if (grid_row(y) < 0) continue;
-                const double mu = g.metres_u[static_cast<std::size_t>(grid_row(y))], mv = g.metres_v;
-                // The segment in this row's metres.
-                const Vec2 a(s.a.x() * mu, (s.a.y() + shift) * mv), b(s.b.x() * mu, (s.b.y() + shift) * mv);
-                const Vec2 ab = b - a;
-                const double len = ab.norm();
-                const Vec2 dir = len > 0 ? Vec2(ab / len) : Vec2(1, 0), nrm(-dir.y(), dir.x());
-                // How far past a joint the wedge of pixels nearest to it reaches (plus a pixel).
-                auto past = [&](const Vec2& from, const Vec2& to, bool cap) {
-                    const Vec2 d((to.x() - from.x()) * mu, (to.y() - from.y()) * mv);
-                    const double dn = d.norm();
-                    if (cap || dn <= 0) return s.scan;
-                    const double cos_turn = d.dot(dir) / dn;
-                    if (cos_turn <= 0) return s.scan;
-                    return std::min(s.scan,
-                                    s.scan * std::sqrt(std::max(0.0, 1.0 - cos_turn * cos_turn)) + std::max(mu, mv));
-                };
-                const Vec2 ea = a - dir * past(s.before, s.a, s.cap_a), eb = b + dir * past(s.b, s.after, s.cap_b);
-                const std::array<Vec2, 4> corner{ea + nrm * s.scan, eb + nrm * s.scan, eb - nrm * s.scan,
-                                                 ea - nrm * s.scan};
+                if (const double row_mu = g.metres_u[static_cast<std::size_t>(grid_row(y))]; row_mu != mu) {
+                    mu = row_mu;
+                    a = Vec2(s.a.x() * mu, (s.a.y() + shift) * mv);
+                    const Vec2 b(s.b.x() * mu, (s.b.y() + shift) * mv);
+                    ab = b - a;
+                    len = ab.norm();
+                    const Vec2 dir = len > 0 ? Vec2(ab / len) : Vec2(1, 0), nrm(-dir.y(), dir.x());
+                    // How far past a joint the wedge of pixels nearest to it reaches (plus a pixel).
+                    auto past = [&](const Vec2& from, const Vec2& to, bool cap) {
+                        const Vec2 d((to.x() - from.x()) * mu, (to.y() - from.y()) * mv);
+                        const double dn = d.norm();
+                        if (cap || dn <= 0) return s.scan;
+                        const double cos_turn = d.dot(dir) / dn;
+                        if (cos_turn <= 0) return s.scan;
+                        return std::min(s.scan, s.scan * std::sqrt(std::max(0.0, 1.0 - cos_turn * cos_turn))
+                                                    + std::max(mu, mv));
+                    };
+                    const Vec2 ea = a - dir * past(s.before, s.a, s.cap_a), eb = b + dir * past(s.b, s.after, s.cap_b);
+                    corner = {ea + nrm * s.scan, eb + nrm * s.scan, eb - nrm * s.scan, ea - nrm * s.scan};
+                }
                 const double ym = y * mv;
                 double xlo = 1e300, xhi = -1e300;
                 for (int e = 0; e < 4; ++e) {
@@ -483,8 +490,8 @@ GrooveField groove_field(const PixelGrid& g, const std::vector<CrackCurve>& curv
                     const double t = len > 0 ? std::clamp((q - a).dot(ab) / (len * len), 0.0, 1.0) : 0.0;
                     const double d = (q - a - t * ab).norm();
                     if (d > s.scan) continue;
-                    PixelState& st = state[static_cast<std::size_t>((y - h0) * W + ((x % W) + W) % W)];
-                    st.nearest.offer(static_cast<float>(d), static_cast<float>(s.extent), curve, pa, pb, t);
+                    state[static_cast<std::size_t>((y - h0) * W + ((x % W) + W) % W)].offer(
+                        static_cast<float>(d), static_cast<float>(s.extent), curve, k, t);
                 }
             }
         }
@@ -495,9 +502,13 @@ GrooveField groove_field(const PixelGrid& g, const std::vector<CrackCurve>& curv
         for (int row = 0; row < rows; ++row)
             for (int x = 0; x < W; ++x) {
                 const std::size_t j = static_cast<std::size_t>(row * W + x);
-                const Nearest& n = state[j].nearest;
+                const Nearest& n = state[j];
                 if (std::all_of(n.curve.begin(), n.curve.end(), [](std::int32_t c) { return c < 0; })) continue;
-                const auto [d, p] = join_nearest(n, o.join_radius);
+                const auto [d, p] = join_nearest(n, o.join_radius, [&](int slot) {
+                    const Segment& s = segs[n.segment[static_cast<std::size_t>(slot)]];
+                    return lerp(profiles[s.curve][s.point], profiles[s.curve][s.point + 1],
+                                n.t[static_cast<std::size_t>(slot)]);
+                });
                 if (!std::isfinite(d)) continue;
                 distance[j] = static_cast<float>(d);
                 window.put(x, row, p);
