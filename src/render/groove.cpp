@@ -419,7 +419,8 @@ GrooveField groove_field(const PixelGrid& g, const std::vector<CrackCurve>& curv
     std::vector<std::vector<std::pair<std::uint32_t, double>>> bins(static_cast<std::size_t>(blocks));
     for (std::size_t k = 0; k < segs.size(); ++k) {
         const Segment& s = segs[k];
-        const double reach_px = 2 * s.scan / g.metres_v + 1 + HALO;
+        // The scanned rectangle reaches at most scan · √2 from the segment in v (its corners).
+        const double reach_px = std::sqrt(2.0) * s.scan / g.metres_v + 1 + HALO;
         const double y0 = std::min(s.a.y(), s.b.y()) - reach_px, y1 = std::max(s.a.y(), s.b.y()) + reach_px;
         std::vector<double> shifts{0.0};
         if (g.wrap_v) {
