@@ -17,6 +17,9 @@ constexpr int BLOCK_ROWS = 64;
 constexpr double PROFILE_BLEND = 4.0;
 /// Beyond its groove's extent a curve fades out of the join over this share of the extent.
 constexpr double FADE = 0.4;
+/// A groove shallower than this share of the plate height (a tapering tip) fades out of the join:
+/// its flat profile would otherwise stand in for a deeper groove beside it, out to its own reach.
+constexpr double SHALLOW = 0.2;
 /// The steepest turn of a groove's slope between neighbouring pixels anywhere on a fillet:
 /// narrower features would show as creases (the bound is 10° between neighbours).
 constexpr double TURN_PER_PIXEL = 9.0 * PI / 180.0;
@@ -219,7 +222,8 @@ template <class ProfileOf> std::pair<double, Profile> join_nearest(const Nearest
     double sum = 0;
     for (int k = 0; k < Nearest::SLOTS; ++k) {
         if (n.curve[k] < 0) continue;
-        const double fade = 1.0 - smooth01((n.distance[k] / std::max(double(n.extent[k]), 1e-12) - 1.0) / FADE);
+        const double fade = (1.0 - smooth01((n.distance[k] / std::max(double(n.extent[k]), 1e-12) - 1.0) / FADE))
+                            * smooth01(profile_of(k).share / SHALLOW);
         sum += fade * std::exp(-(n.distance[k] - least) / r);
         w[k] = fade * std::exp(-(n.distance[k] - least) / (PROFILE_BLEND * r));
     }
