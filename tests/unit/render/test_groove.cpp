@@ -5,6 +5,7 @@
 // faceted walls next to the cracks; the Mask keeps the pieces and the junctions where they meet.
 #include "app/options.hpp"
 #include "app/pipeline.hpp"
+#include "fracture/statistics.hpp"
 #include "io/preset.hpp"
 #include "render/bake.hpp"
 #include "render/crack_curves.hpp"
@@ -131,12 +132,24 @@ int mask_regions(const render::TextureSet& set, float core) {
         [](std::size_t, std::size_t) { return true; }, label);
 }
 
+/// Junctions where three or more regions meet, and the three-region ones classified T or Y.
+struct Junctions {
+    int count = 0;      ///< Σ (k − 2) over the junctions where k regions meet
+    int t = 0, y = 0;   ///< three-region junctions classified as the simulation does (statistics.hpp)
+    int classified = 0; ///< three-region junctions whose three branches were all found
+    std::vector<std::array<double, 3>> at; ///< classified junctions: centre x, y (px) and the largest angle (°)
+    double t_share() const { return t + y > 0 ? double(t) / double(t + y) : 0.0; }
+};
+
 /// Junctions where three or more regions (labels ≥ 0; −1 between them) meet, on a periodic grid:
 /// every pixel between regions takes its nearest region's label (exact distance transform), a 2 × 2
 /// block of pixels with three or more labels lies on a junction, blocks touching (8-neighbours)
 /// form one junction, and a junction around which k regions meet counts k − 2 (a point where four
-/// pieces meet is two junctions a pixel apart, as a map of pieces shows it).
-int region_junctions(int w, int h, const std::vector<int>& label) {
+/// pieces meet is two junctions a pixel apart, as a map of pieces shows it). Where three regions
+/// meet, each branch (the boundary between two of them) is followed out to `reach` pixels: its
+/// direction is the mean direction from the junction to the boundary pixels between reach / 3 and
+/// reach, and the three angles between the branches classify the junction (T or Y).
+Junctions region_junctions(int w, int h, const std::vector<int>& label, int reach = 20) {
     PixelGrid g;
     g.width = w;
     g.height = h;
@@ -150,7 +163,9 @@ int region_junctions(int w, int h, const std::vector<int>& label) {
     std::vector<int> near(label.size());
     for (std::size_t i = 0; i < label.size(); ++i)
         near[i] = label[d.nearest[i]];
-    auto at = [&](int x, int y) { return std::size_t((y + h) % h) * std::size_t(w) + std::size_t((x + w) % w); };
+    auto at = [&](int x, int y) {
+        return std::size_t(((y % h) + h) % h) * std::size_t(w) + std::size_t(((x % w) + w) % w);
+    };
     auto labels_of = [&](int x, int y, std::vector<int>& into) {
         for (const std::size_t j : {at(x, y), at(x + 1, y), at(x, y + 1), at(x + 1, y + 1)})
             if (std::find(into.begin(), into.end(), near[j]) == into.end()) into.push_back(near[j]);
@@ -163,18 +178,26 @@ int region_junctions(int w, int h, const std::vector<int>& label) {
             labels_of(x, y, seen);
             on[at(x, y)] = seen.size() >= 3;
         }
-    int junctions = 0;
+    Junctions out;
     std::vector<std::size_t> stack;
     for (std::size_t start = 0; start < on.size(); ++start) {
         if (on[start] != 1) continue;
         on[start] = 2;
         stack.push_back(start);
         seen.clear();
+        // The cluster's centre, its pixels unwrapped next to the first one.
+        const int x0 = int(start % std::size_t(w)), y0 = int(start / std::size_t(w));
+        double sx = 0, sy = 0;
+        int n = 0;
         while (!stack.empty()) {
             const std::size_t i = stack.back();
             stack.pop_back();
             const int x = int(i % std::size_t(w)), y = int(i / std::size_t(w));
             labels_of(x, y, seen);
+            int ux = x - x0, uy = y - y0;
+            ux -= w * int(std::lround(double(ux) / w));
+            uy -= h * int(std::lround(double(uy) / h));
+            sx += ux + 0.5, sy += uy + 0.5, ++n;
             for (int dy = -1; dy <= 1; ++dy)
                 for (int dx = -1; dx <= 1; ++dx)
                     if (const std::size_t j = at(x + dx, y + dy); on[j] == 1) {
@@ -182,9 +205,56 @@ int region_junctions(int w, int h, const std::vector<int>& label) {
                         stack.push_back(j);
                     }
         }
-        junctions += static_cast<int>(seen.size()) - 2;
+        out.count += static_cast<int>(seen.size()) - 2;
+        if (seen.size() != 3) continue;
+        const double cx = x0 + sx / n, cy = y0 + sy / n;
+        // Each branch: the boundary pixels between two of the three regions in the annulus.
+        std::array<double, 3> angle{};
+        bool found = true;
+        for (int b = 0; b < 3 && found; ++b) {
+            const int la = seen[std::size_t(b)], lb = seen[std::size_t((b + 1) % 3)];
+            double mx = 0, my = 0;
+            for (int y = int(cy) - reach - 1; y <= int(cy) + reach + 1; ++y)
+                for (int x = int(cx) - reach - 1; x <= int(cx) + reach + 1; ++x) {
+                    const double rx = x - cx, ry = y - cy, r = std::hypot(rx, ry);
+                    if (r < reach / 3.0 || r > reach || near[at(x, y)] != la) continue;
+                    if (near[at(x + 1, y)] == lb || near[at(x - 1, y)] == lb || near[at(x, y + 1)] == lb
+                        || near[at(x, y - 1)] == lb)
+                        mx += rx / r, my += ry / r;
+                }
+            found = std::hypot(mx, my) > 0;
+            angle[std::size_t(b)] = std::atan2(my, mx);
+        }
+        if (!found) continue;
+        ++out.classified;
+        std::sort(angle.begin(), angle.end());
+        const double deg = 180.0 / PI;
+        out.at.push_back({cx, cy,
+                          std::max({(angle[1] - angle[0]) * deg, (angle[2] - angle[1]) * deg,
+                                    360.0 - (angle[2] - angle[0]) * deg})});
+        const fracture::JunctionKind kind = fracture::classify_junction(
+            (angle[1] - angle[0]) * deg, (angle[2] - angle[1]) * deg, 360.0 - (angle[2] - angle[0]) * deg);
+        out.t += kind == fracture::JunctionKind::T;
+        out.y += kind == fracture::JunctionKind::Y;
     }
-    return junctions;
+    return out;
+}
+/// How the largest angle at each classified junction of `a` changes in `b` (the nearest junction
+/// of `b` within 4 px; periodic): the median and the 90th percentile of |Δ| in degrees.
+std::pair<double, double> largest_angle_change(const Junctions& a, const Junctions& b, int w, int h) {
+    std::vector<double> diff;
+    for (const auto& p : a.at) {
+        double best = 1e300, angle = 0;
+        for (const auto& q : b.at) {
+            double dx = std::abs(q[0] - p[0]), dy = std::abs(q[1] - p[1]);
+            dx = std::min(dx, w - dx), dy = std::min(dy, h - dy);
+            if (std::hypot(dx, dy) < best) best = std::hypot(dx, dy), angle = q[2];
+        }
+        if (best <= 4) diff.push_back(std::abs(angle - p[2]));
+    }
+    REQUIRE(diff.size() * 10 >= a.at.size() * 9); // nearly every junction found again
+    std::sort(diff.begin(), diff.end());
+    return {diff[diff.size() / 2], diff[diff.size() * 9 / 10]};
 }
 } // namespace
 
@@ -445,12 +515,26 @@ TEST_SUITE("render") {
                 if (l >= 0) ++size[std::size_t(l)];
             for (int& l : in_id)
                 if (l >= 0 && size[std::size_t(l)] < 64) l = -1;
-            const int from_mask = region_junctions(set.width, set.height_px, in_mask);
-            const int from_pieces = region_junctions(set.width, set.height_px, in_id);
-            MESSAGE(kind << ": " << from_mask << " junctions in the Mask, " << from_pieces << " in the pieces' ID map ("
-                         << s.run.statistics.junctions << " nodes of degree 3 in the simulated crack graph)");
-            REQUIRE(from_pieces > 50);
-            CHECK(std::abs(from_mask - from_pieces) <= std::max(1, from_pieces / 100));
+            const Junctions from_mask = region_junctions(set.width, set.height_px, in_mask);
+            const Junctions from_pieces = region_junctions(set.width, set.height_px, in_id);
+            MESSAGE(kind << ": " << from_mask.count << " junctions in the Mask, " << from_pieces.count
+                         << " in the pieces' ID map (" << s.run.statistics.junctions
+                         << " nodes of degree 3 in the simulated crack graph); T share " << from_mask.t_share() << " ("
+                         << from_mask.t << " T, " << from_mask.y << " Y of " << from_mask.classified << ") against "
+                         << from_pieces.t_share() << " (" << from_pieces.t << " T, " << from_pieces.y << " Y of "
+                         << from_pieces.classified << ")");
+            REQUIRE(from_pieces.count > 50);
+            // T stays T, Y stays Y: each junction's largest angle between its branches, matched
+            // junction by junction. Measured (seed 1, branches followed 3-10 mm): the curves' Mask
+            // differs from the pieces by a median 7.3° on the plane and 6.6° on the cylinder (p90 16°),
+            // and its T share is lower (plane 0.68 against 0.73, cylinder 0.67 against 0.69), where the
+            // raster bake, drawn from the same polylines as the ID map, differs by 0.3° (p90 8°; T share
+            // 0.75). A known miss of issue 35 (the curves' smoothing and join turn the junctions'
+            // branches), reported here; the check holds the measurement itself to the raster control.
+            const auto [median, p90] = largest_angle_change(from_pieces, from_mask, set.width, set.height_px);
+            MESSAGE(kind << ": largest angle at junctions changes by a median " << median << "° (p90 " << p90
+                         << "°) from the pieces to the Mask");
+            CHECK(std::abs(from_mask.count - from_pieces.count) <= std::max(1, from_pieces.count / 100));
             if (kind != "plane") continue;
             // The failing control: the raster bake's Mask, whose lip lines break into islands.
             render::BakeOptions raster = bo;
@@ -460,9 +544,15 @@ TEST_SUITE("render") {
             test::label_regions(
                 control.width, control.height_px, [&](std::size_t i) { return control.mask[i] < 0.995f; },
                 [](std::size_t, std::size_t) { return true; }, in_control);
-            const int from_control = region_junctions(control.width, control.height_px, in_control);
-            MESSAGE("control (raster grooves): " << from_control << " junctions in the Mask");
-            CHECK(std::abs(from_control - from_pieces) > std::max(1, from_pieces / 100));
+            const Junctions from_control = region_junctions(control.width, control.height_px, in_control);
+            const auto [control_median, control_p90] =
+                largest_angle_change(from_pieces, from_control, set.width, set.height_px);
+            MESSAGE("control (raster grooves): largest angle changes by a median " << control_median << "° (p90 "
+                                                                                   << control_p90 << "°)");
+            CHECK(control_median <= 1.0);
+            MESSAGE("control (raster grooves): " << from_control.count << " junctions in the Mask, T share "
+                                                 << from_control.t_share());
+            CHECK(std::abs(from_control.count - from_pieces.count) > std::max(1, from_pieces.count / 100));
         }
     }
 }
