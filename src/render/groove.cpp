@@ -37,7 +37,7 @@ double smooth01(double x) {
 
 /// The groove's cross-section at one curve point.
 struct Profile {
-    float floor = 0;         ///< m: half the floor's width (half the simulated opening)
+    float floor = 0;         ///< m: half the flat floor's width (half the simulated opening less the floor fillet)
     float reach = 0;         ///< m: from the floor's edge to the plate top
     float fillet_top = 0;    ///< m
     float fillet_bottom = 0; ///< m
@@ -45,6 +45,7 @@ struct Profile {
     float depth = 0;         ///< m
     float share = 0;         ///< the groove's depth as a share of the local plate height (0..1)
     float age = 1;
+    float gap = 0; ///< m: half the simulated opening (the crack's own width: the Mask's core)
 
     /// Drop below the plate top at distance d (m) from the curve.
     double drop(double d, const Fillets& f) const {
@@ -60,10 +61,15 @@ struct Profile {
 
 Profile lerp(const Profile& a, const Profile& b, double t) {
     auto mix = [&](float p, float q) { return static_cast<float>((1 - t) * p + t * q); };
-    return {mix(a.floor, b.floor),           mix(a.reach, b.reach),
-            mix(a.fillet_top, b.fillet_top), mix(a.fillet_bottom, b.fillet_bottom),
-            mix(a.alpha, b.alpha),           mix(a.depth, b.depth),
-            mix(a.share, b.share),           mix(a.age, b.age)};
+    return {mix(a.floor, b.floor),
+            mix(a.reach, b.reach),
+            mix(a.fillet_top, b.fillet_top),
+            mix(a.fillet_bottom, b.fillet_bottom),
+            mix(a.alpha, b.alpha),
+            mix(a.depth, b.depth),
+            mix(a.share, b.share),
+            mix(a.age, b.age),
+            mix(a.gap, b.gap)};
 }
 
 /// The profiles of a block of rows (and the rows of its halo), one channel per parameter and one
@@ -76,7 +82,7 @@ public:
     void put(int x, int row, const Profile& p) {
         float* c = at(x, row);
         const std::array<float, CH> v{1.0f,    p.floor, p.reach, p.fillet_top, p.fillet_bottom,
-                                      p.alpha, p.depth, p.share, p.age};
+                                      p.alpha, p.depth, p.share, p.age,        p.gap};
         std::copy(v.begin(), v.end(), c);
     }
     /// After smooth(): the pixel's profile, or none where no profile reached it.
@@ -84,7 +90,7 @@ public:
         const float* c = at(x, row);
         if (c[0] <= 1e-6f) return std::nullopt;
         const float w = 1.0f / c[0];
-        return Profile{c[1] * w, c[2] * w, c[3] * w, c[4] * w, c[5] * w, c[6] * w, c[7] * w, c[8] * w};
+        return Profile{c[1] * w, c[2] * w, c[3] * w, c[4] * w, c[5] * w, c[6] * w, c[7] * w, c[8] * w, c[9] * w};
     }
     void smooth(int radius) {
         std::vector<double> sum(CH);
@@ -100,7 +106,7 @@ public:
     }
 
 private:
-    static constexpr std::size_t CH = 9;
+    static constexpr std::size_t CH = 10;
     float* at(int x, int row) { return &m_data[(std::size_t(row) * std::size_t(m_width) + std::size_t(x)) * CH]; }
     const float* at(int x, int row) const {
         return &m_data[(std::size_t(row) * std::size_t(m_width) + std::size_t(x)) * CH];
@@ -361,6 +367,12 @@ GrooveField groove_field(const PixelGrid& g, const std::vector<CrackCurve>& curv
                     static_cast<float>(std::max({o.rounding, least * top_rate, double(p.reach - p.fillet_bottom)}));
                 solved = solve(p, fillets);
             }
+            // The simulated opening is the gap between the plates' lips: the floor fillets (the
+            // walls' feet) stand inside it, so the groove is no wider than the opening and its
+            // lips' rounding (a floor as wide as the opening plus both fillets read as plates
+            // sitting on a bed of dirt).
+            solved.gap = solved.floor;
+            solved.floor = std::max(0.0f, solved.floor - solved.fillet_bottom);
             profiles[c][i] = solved;
         }
     });
@@ -537,7 +549,7 @@ GrooveField groove_field(const PixelGrid& g, const std::vector<CrackCurve>& curv
                 from_lip = from_lip < fb ? from_lip * from_lip / (2 * fb) : from_lip - 0.5 * fb;
                 const double lift =
                     o.curl > 0 && o.curl_reach > 0 ? o.curl * sqr(std::max(0.0, 1.0 - from_lip / o.curl_reach)) : 0.0;
-                const double half = std::max(double(p.floor), 0.5 * pixel);
+                const double half = std::max(double(p.gap), 0.5 * pixel);
                 out.drop[i] = static_cast<float>(top[i] * std::clamp(share, 0.0, 1.0));
                 out.lift[i] = static_cast<float>(top[i] * lift);
                 out.coverage[i] = static_cast<float>(std::clamp((half - d) / pixel + 0.5, 0.0, 1.0));

@@ -4,7 +4,8 @@
 ///
 ///     plate top ─╮ lip fillet (slope turns from 0 to α over L_top)
 ///                 ╲ wall at slope α
-///                  ╰─ floor fillet (α back to 0 over L_floor) ── floor (half the simulated opening)
+///                  ╰─ floor fillet (α back to 0 over L_floor) ── floor (half the simulated opening, less the
+///                                                                     floor fillet: the walls' feet stand in the gap)
 ///
 /// The slope angle turns at a bounded rate (α over a fillet length in metres), so the walls are
 /// smooth across the curve's points and the normal map has no creases at the lips; α is solved
@@ -44,7 +45,7 @@ struct GrooveOptions {
 struct GrooveField {
     std::vector<float> drop;     ///< m below the plate top (0 … the top)
     std::vector<float> lift;     ///< m the rim is lifted by curl
-    std::vector<float> coverage; ///< share of the pixel inside the crack's floor (or its one-pixel hairline)
+    std::vector<float> coverage; ///< share of the pixel inside the crack's gap (the simulated opening) or hairline
     std::vector<float> age;      ///< the nearest crack's age (1 = first crack); 1 with no crack near
     std::vector<float> distance; ///< m to the nearest crack curve (∞ with none within reach)
 };
