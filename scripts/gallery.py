@@ -78,6 +78,16 @@ def main(work, out):
                 "Regenerate with `scripts/gallery` (about 15 minutes; not part of the tests).\n\n"
                 "![contact sheet](contact-sheet.jpg)\n\n| preset | preview | command | bake time |\n|---|---|---|---|\n")
         f.write("\n".join(table) + "\n")
+        crops = sorted(c for c in os.listdir(os.path.join(out, "crops")) if c.endswith("-2048.jpg")) \
+            if os.path.isdir(os.path.join(out, "crops")) else []
+        if crops:
+            f.write("\n## Full resolution\n\nA 512-px square from the middle of the tile baked at 2048², at 1:1 "
+                    "(colour beside the lit relief), beside the 512-px view of the whole tile. Regenerate with "
+                    "`scripts/gallery_crops` (bark and mud by default), then `scripts/gallery`.\n\n"
+                    "| preset | whole tile at 512 px | 2048², middle 512 px at 1:1 |\n|---|---|---|\n")
+            for c in crops:
+                folder = c[: -len("-2048.jpg")]
+                f.write(f"| `{folder}` | ![{folder}]({folder}.jpg) | ![{folder} at 2048](crops/{c}) |\n")
 
 
 if __name__ == "__main__":
