@@ -368,9 +368,9 @@ GrooveField groove_field(const PixelGrid& g, const std::vector<CrackCurve>& curv
                 solved = solve(p, fillets);
             }
             // The simulated opening is the gap between the plates' lips: the floor fillets (the
-            // walls' feet) stand inside it, so the groove is no wider than the opening and its
-            // lips' rounding (a floor as wide as the opening plus both fillets read as plates
-            // sitting on a bed of dirt).
+            // walls' feet) stand inside it, so the trough is the opening plus the walls and lip
+            // fillets (with a floor as wide as the opening and the floor fillets beside it, mud's
+            // plates read as pebbles on a bed of dirt). The Mask's core stays the whole gap.
             solved.gap = solved.floor;
             solved.floor = std::max(0.0f, solved.floor - solved.fillet_bottom);
             profiles[c][i] = solved;
