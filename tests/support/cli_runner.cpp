@@ -52,7 +52,7 @@ pid_t spawn_crackle(const std::vector<std::string>& args, const std::vector<std:
 }
 
 CliResult run_crackle(const std::vector<std::string>& args, const std::vector<std::string>& extra_env) {
-    const std::filesystem::path dir = scratch_dir("run-crackle-" + std::to_string(::getpid()));
+    const std::filesystem::path dir = scratch_dir("run-crackle");
     const pid_t pid = spawn_crackle(args, extra_env, dir / "out.txt", dir / "err.txt");
     int status = 0;
     ::waitpid(pid, &status, 0);
@@ -80,7 +80,9 @@ std::filesystem::path scratch_dir(const std::string& name) {
     const char* base = std::getenv("CRACKLE_TEST_OUTPUT");
     const std::filesystem::path root =
         base ? std::filesystem::path(base) : std::filesystem::temp_directory_path() / "crackle-tests";
-    const std::filesystem::path dir = root / name;
+    // One folder per process: ctest runs test cases in parallel processes, and a helper shared by
+    // two test cases (the envelope's simulate) must not have one empty the other's folder.
+    const std::filesystem::path dir = root / (name + "." + std::to_string(::getpid()));
     std::filesystem::remove_all(dir);
     std::filesystem::create_directories(dir);
     return dir;

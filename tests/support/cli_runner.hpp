@@ -27,7 +27,7 @@ pid_t spawn_crackle(const std::vector<std::string>& args, const std::vector<std:
 /// exit status, or 128 + the signal.
 CliResult run_crackle(const std::vector<std::string>& args, const std::vector<std::string>& extra_env = {});
 
-/// A fresh, empty folder under the build tree's test-output/ (or the system temp folder).
+/// A fresh, empty folder `name.pid` under the build tree's test-output/ (or the system temp folder).
 std::filesystem::path scratch_dir(const std::string& name);
 
 /// Writes a text file and returns its path.
