@@ -220,7 +220,8 @@ std::vector<KeySpec> build_schema() {
                        "side. Later cracks get less (bake.crack_age). 0 = only post.bevel. Bark: 0.005–0.02."));
     s.push_back(number("bake", "crack_depth", 0.0, "", 0.0, 1.0,
                        "How deep the first cracks cut at the lip, as a share of the layer's height: 1 = furrows "
-                       "down to the ground, 0 = only post.bevel."));
+                       "down to the ground, 0 = as simulated (closed cracks only post.bevel, opened ones to the "
+                       "ground)."));
     s.push_back(number("bake", "crack_shape", 0.0, "", 0.0, 1.0,
                        "Profile of the plates' edges: 0 = V-shaped grooves (the lip slopes gently down), 1 = "
                        "rounded ridges (the plate stays high and drops steeply into the furrow, as on bark)."));

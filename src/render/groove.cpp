@@ -340,7 +340,15 @@ GrooveField groove_field(const PixelGrid& g, const std::vector<CrackCurve>& curv
         for (std::size_t i = 0; i < n; ++i) {
             const double taper = cv.taper[i], w = weight[i];
             Profile p;
-            p.share = static_cast<float>(std::min(1.0, o.crack_depth * std::sqrt(w)) * taper);
+            double share = std::min(1.0, o.crack_depth * std::sqrt(w));
+            if (o.crack_depth <= 0) {
+                // bake.crack_depth = 0 leaves the depth to the simulation: a closed crack is cut
+                // by the bevel only, one that post.shrinkage opened goes through the layer to the
+                // ground, as the raster bake's gaps do (table-5-2-*).
+                const double bevel = top_here[i] > 0 ? std::min(1.0, o.bevel / top_here[i]) : 0.0;
+                share = bevel + (1.0 - bevel) * smooth01(opening[i] / o.pixel);
+            }
+            p.share = static_cast<float>(share * taper);
             p.floor = static_cast<float>(0.5 * opening[i] * taper);
             // A crack closes at its tip: the floor narrows over its groove's own width (its
             // extent), so the walls meet at the tip in a rounded point, not a crease.

@@ -30,7 +30,8 @@ namespace crackle::render {
 
 struct GrooveOptions {
     double crack_width = 0;    ///< m: the first cracks' groove reach beyond the floor (bake.crack_width)
-    double crack_depth = 0;    ///< 0..1: depth share of a crack that has not opened (bake.crack_depth)
+    double crack_depth = 0;    ///< 0..1: depth share of the first cracks (bake.crack_depth; 0 = the simulation's)
+    double bevel = 0;          ///< m: a closed crack's depth when crack_depth is 0 (post.bevel)
     double crack_shape = 0;    ///< 0 = V (short lip fillet), 1 = rounded ridges (the lip fillet is half the reach)
     double rounding = 0;       ///< m: the fillets' least length (post.bevel, at least 1.5 pixels)
     double curl = 0;           ///< post.curl: rim lift at the lip, in layer heights

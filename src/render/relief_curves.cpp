@@ -44,6 +44,7 @@ Relief shape_relief_curves(const RasterLayers& layers, const std::vector<CrackCu
     GrooveOptions go;
     go.crack_width = o.crack_width;
     go.crack_depth = o.crack_depth;
+    go.bevel = o.bevel;
     go.crack_shape = o.crack_shape;
     go.rounding = std::max(o.bevel, 1.5 * std::max(g.metres_v, g.metres_u[static_cast<std::size_t>(g.height / 2)]));
     go.curl = o.curl;

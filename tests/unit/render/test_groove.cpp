@@ -383,6 +383,25 @@ TEST_SUITE("render") {
         CHECK(turn <= 10.0);
     }
 
+    TEST_CASE("grooves: with bake.crack_depth = 0 the simulation sets the depth: an opened crack goes through the "
+              "layer, a closed one is cut by the bevel") {
+        const PixelGrid g = plane_grid(256, 0.05);
+        const double top = 0.008;
+        const std::vector<float> tops(g.pixels(), static_cast<float>(top));
+        render::GrooveOptions o = options(g);
+        o.crack_depth = 0;
+        o.bevel = 0.002;
+        const int y = 100, mid = 128;
+        const auto drop_at_crack = [&](float opening) {
+            const std::vector<render::CrackCurve> curves{
+                curve({Vec2(0.5, -0.2), Vec2(0.5, 0.4), Vec2(0.5, 1.2)}, opening)};
+            return double(render::groove_field(g, curves, tops, o).drop[g.index(mid, y)]);
+        };
+        // Before this, both were 0: the table-5-2 presets baked with curves showed no cracks at all.
+        CHECK(drop_at_crack(0.001f) == doctest::Approx(top).epsilon(0.02));
+        CHECK(drop_at_crack(0.0f) == doctest::Approx(o.bevel).epsilon(0.05));
+    }
+
     TEST_CASE("grooves: where cracks meet (a T, a Y) and round a bend, the height has no crease") {
         const PixelGrid g = plane_grid(256, 0.05);
         const double top = 0.008;
