@@ -187,14 +187,14 @@ struct Segment {
 /// The nearest few distinct curves of a pixel: each curve's distance (the least over its
 /// segments) and where on which segment it is met (the profile is interpolated there when the
 /// curves are joined: most offers are overtaken by a nearer one).
-struct Nearest {
+struct alignas(64) Nearest {
     static constexpr int SLOTS = 4;
-    std::array<float, SLOTS> distance{}, extent{};
+    std::array<float, SLOTS> distance{};
     std::array<std::int32_t, SLOTS> curve{-1, -1, -1, -1};
     std::array<std::uint32_t, SLOTS> segment{};
-    std::array<double, SLOTS> t{};
+    std::array<float, SLOTS> t{};
 
-    void offer(float d, float reach, std::int32_t c, std::uint32_t k, double at) {
+    void offer(float d, std::int32_t c, std::uint32_t k, double at) {
         int slot = -1, farthest = 0;
         for (int i = 0; i < SLOTS; ++i) {
             if (curve[i] == c) slot = i;
@@ -206,7 +206,7 @@ struct Nearest {
         } else if (distance[slot] <= d) {
             return;
         }
-        curve[slot] = c, distance[slot] = d, extent[slot] = reach, segment[slot] = k, t[slot] = at;
+        curve[slot] = c, distance[slot] = d, segment[slot] = k, t[slot] = static_cast<float>(at);
     }
 };
 
@@ -216,7 +216,8 @@ struct Nearest {
 /// by about r, and the ridge between two grooves has a rounded crest, with no crease along the
 /// line of equal distance. A curve nearer than the others by several r keeps its own distance
 /// and profile.
-template <class ProfileOf> std::pair<double, Profile> join_nearest(const Nearest& n, double r, ProfileOf&& profile_of) {
+template <class ProfileOf, class ExtentOf>
+std::pair<double, Profile> join_nearest(const Nearest& n, double r, ProfileOf&& profile_of, ExtentOf&& extent_of) {
     double least = std::numeric_limits<double>::infinity();
     for (int k = 0; k < Nearest::SLOTS; ++k)
         if (n.curve[k] >= 0) least = std::min(least, double(n.distance[k]));
@@ -228,7 +229,7 @@ template <class ProfileOf> std::pair<double, Profile> join_nearest(const Nearest
     double sum = 0;
     for (int k = 0; k < Nearest::SLOTS; ++k) {
         if (n.curve[k] < 0) continue;
-        const double fade = (1.0 - smooth01((n.distance[k] / std::max(double(n.extent[k]), 1e-12) - 1.0) / FADE))
+        const double fade = (1.0 - smooth01((n.distance[k] / std::max(extent_of(k), 1e-12) - 1.0) / FADE))
                             * smooth01(profile_of(k).share / SHALLOW);
         sum += fade * std::exp(-(n.distance[k] - least) / r);
         w[k] = fade * std::exp(-(n.distance[k] - least) / (PROFILE_BLEND * r));
@@ -409,17 +410,20 @@ GrooveField groove_field(const PixelGrid& g, const std::vector<CrackCurve>& curv
         const CrackCurve& cv = curves[s.curve];
         const std::size_t n = cv.uv.size(), i = s.point;
         if (i == 0) first = k;
+        // A loop may close on its image a period on (round the trunk): its neighbours across
+        // the closing point are brought back by that period.
+        const Vec2 period = to_px(cv.uv.back()) - to_px(cv.uv.front());
         if (i > 0) {
             s.before = segs[k - 1].a;
         } else if (cv.closed && n > 2) {
-            s.before = to_px(cv.uv[n - 2]);
+            s.before = to_px(cv.uv[n - 2]) - period;
         } else {
             s.before = s.a, s.cap_a = true;
         }
         if (i + 2 < n) {
             s.after = to_px(cv.uv[i + 2]);
         } else if (cv.closed && n > 2) {
-            s.after = segs[first].b;
+            s.after = segs[first].b + period;
         } else {
             s.after = s.b, s.cap_b = true;
         }
@@ -474,6 +478,7 @@ GrooveField groove_field(const PixelGrid& g, const std::vector<CrackCurve>& curv
             const double mv = g.metres_v;
             Vec2 a(0, 0), ab(0, 0);
             double len = 0;
+            const double scan2 = s.scan * s.scan;
             std::array<Vec2, 4> corner{a, a, a, a};
             for (int y = h0; y < h0 + rows; ++y) {
                 if (grid_row(y) < 0) continue;
@@ -484,7 +489,10 @@ GrooveField groove_field(const PixelGrid& g, const std::vector<CrackCurve>& curv
                     ab = b - a;
                     len = ab.norm();
                     const Vec2 dir = len > 0 ? Vec2(ab / len) : Vec2(1, 0), nrm(-dir.y(), dir.x());
-                    // How far past a joint the wedge of pixels nearest to it reaches (plus a pixel).
+                    // How far past a joint the wedge of pixels nearest to it reaches (plus a
+                    // margin), and on which side: the wedge lies on the bend's outer side, away
+                    // from the neighbouring point (the inner side is in the slabs of the
+                    // segments either side). Each segment's rectangle is extended there only.
                     auto past = [&](const Vec2& from, const Vec2& to, bool cap) {
                         const Vec2 d((to.x() - from.x()) * mu, (to.y() - from.y()) * mv);
                         const double dn = d.norm();
@@ -492,10 +500,24 @@ GrooveField groove_field(const PixelGrid& g, const std::vector<CrackCurve>& curv
                         const double cos_turn = d.dot(dir) / dn;
                         if (cos_turn <= 0) return s.scan;
                         return std::min(s.scan, s.scan * std::sqrt(std::max(0.0, 1.0 - cos_turn * cos_turn))
-                                                    + std::max(mu, mv));
+                                                    + o.wedge_margin_px * std::max(mu, mv));
                     };
-                    const Vec2 ea = a - dir * past(s.before, s.a, s.cap_a), eb = b + dir * past(s.b, s.after, s.cap_b);
-                    corner = {ea + nrm * s.scan, eb + nrm * s.scan, eb - nrm * s.scan, ea - nrm * s.scan};
+                    // The side (+1: along nrm) where the neighbour beyond an end lies.
+                    auto side = [&](const Vec2& neighbour, const Vec2& end) {
+                        return Vec2((neighbour.x() - end.x()) * mu, (neighbour.y() - end.y()) * mv).dot(nrm) > 0 ? 1
+                                                                                                                 : -1;
+                    };
+                    const double pa = past(s.before, s.a, s.cap_a), pb = past(s.b, s.after, s.cap_b);
+                    const bool round_a = s.cap_a || pa >= s.scan, round_b = s.cap_b || pb >= s.scan;
+                    const int sa = side(s.before, s.a), sb = side(s.after, s.b);
+                    // A corner on the +nrm side is extended when the neighbour lies on the − side.
+                    auto at_a = [&](int sign) {
+                        return a - dir * ((round_a || sa != sign) ? pa : 0.0) + sign * nrm * s.scan;
+                    };
+                    auto at_b = [&](int sign) {
+                        return b + dir * ((round_b || sb != sign) ? pb : 0.0) + sign * nrm * s.scan;
+                    };
+                    corner = {at_a(1), at_b(1), at_b(-1), at_a(-1)};
                 }
                 const double ym = y * mv;
                 double xlo = 1e300, xhi = -1e300;
@@ -510,13 +532,15 @@ GrooveField groove_field(const PixelGrid& g, const std::vector<CrackCurve>& curv
                 if (xlo > xhi) continue;
                 int x0 = static_cast<int>(std::ceil(xlo / mu)), x1 = static_cast<int>(std::floor(xhi / mu));
                 if (x1 - x0 >= W) x1 = x0 + W - 1;
-                for (int x = x0; x <= x1; ++x) {
+                Nearest* row = &state[static_cast<std::size_t>((y - h0) * W)];
+                for (int x = x0, wrapped = ((x0 % W) + W) % W; x <= x1;
+                     ++x, wrapped = wrapped + 1 < W ? wrapped + 1 : 0) {
                     const Vec2 q(x * mu, ym);
                     const double t = len > 0 ? std::clamp((q - a).dot(ab) / (len * len), 0.0, 1.0) : 0.0;
-                    const double d = (q - a - t * ab).norm();
-                    if (d > s.scan) continue;
-                    state[static_cast<std::size_t>((y - h0) * W + ((x % W) + W) % W)].offer(
-                        static_cast<float>(d), static_cast<float>(s.extent), curve, k, t);
+                    const double d2 = (q - a - t * ab).squaredNorm();
+                    if (d2 > scan2) continue;
+                    const double d = std::sqrt(d2);
+                    row[wrapped].offer(static_cast<float>(d), curve, k, t);
                 }
             }
         }
@@ -529,11 +553,16 @@ GrooveField groove_field(const PixelGrid& g, const std::vector<CrackCurve>& curv
                 const std::size_t j = static_cast<std::size_t>(row * W + x);
                 const Nearest& n = state[j];
                 if (std::all_of(n.curve.begin(), n.curve.end(), [](std::int32_t c) { return c < 0; })) continue;
-                const auto [d, p] = join_nearest(n, o.join_radius, [&](int slot) {
-                    const Segment& s = segs[n.segment[static_cast<std::size_t>(slot)]];
-                    return lerp(profiles[s.curve][s.point], profiles[s.curve][s.point + 1],
-                                n.t[static_cast<std::size_t>(slot)]);
-                });
+                const auto [d, p] = join_nearest(
+                    n, o.join_radius,
+                    [&](int slot) {
+                        const Segment& s = segs[n.segment[static_cast<std::size_t>(slot)]];
+                        return lerp(profiles[s.curve][s.point], profiles[s.curve][s.point + 1],
+                                    n.t[static_cast<std::size_t>(slot)]);
+                    },
+                    [&](int slot) {
+                        return double(static_cast<float>(segs[n.segment[static_cast<std::size_t>(slot)]].extent));
+                    });
                 if (!std::isfinite(d)) continue;
                 distance[j] = static_cast<float>(d);
                 window.put(x, row, p);

@@ -40,6 +40,10 @@ struct GrooveOptions {
     double pixel = 1e-3;       ///< m: the map's pixel
     double shape_pixel = 0; ///< m: the pixel the shapes are sized for (fillets turn ≤ 9° per such pixel; 0 = `pixel`)
     double smoothing_px = 0; ///< px: the plate height along a curve is averaged over this each way
+    /// px: how far a segment's scan reaches beyond the wedge of pixels nearest to its joints
+    /// (a guard against rounding; a huge value scans every segment's whole neighbourhood, the
+    /// exhaustive reference the tests compare with).
+    double wedge_margin_px = 1.0;
 };
 
 /// Per pixel of the grid.

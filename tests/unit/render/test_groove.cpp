@@ -49,6 +49,13 @@ render::CrackCurve curve(const std::vector<Vec2>& uv, float opening, float weigh
     return c;
 }
 
+/// A 5 cm tile of 256² pixels, its plates 8 mm high everywhere.
+struct FlatTile {
+    PixelGrid g = plane_grid(256, 0.05);
+    double top = 0.008;
+    std::vector<float> tops = std::vector<float>(g.pixels(), static_cast<float>(top));
+};
+
 /// Largest angle (degrees) between the normals of neighbouring pixels, over the whole grid.
 double largest_turn(const PixelGrid& g, const std::vector<float>& height, int* at_x = nullptr, int* at_y = nullptr) {
     const std::vector<float> n = render::normals_from_height(g, height);
@@ -323,9 +330,22 @@ TEST_SUITE("render") {
         o.wander_wavelength = 0.01;
         const auto wandering = render::crack_curves(s.pieces, o);
         const double wandered = render::largest_displacement(s.pieces, wandering);
+        // The wander moves the smoothed points along their normals by up to its amplitude (two
+        // octaves: at most 1.4 ×), so the curves stay within that of the smoothed ones.
+        double shifted = 0;
+        for (std::size_t i = 0; i < smooth.size(); ++i) {
+            REQUIRE(wandering[i].uv.size() == smooth[i].uv.size());
+            for (std::size_t j = 0; j < smooth[i].uv.size(); ++j) {
+                const Vec2 d = wandering[i].uv[j] - smooth[i].uv[j];
+                const double mu = render::metres_per_u(s.pieces, smooth[i].uv[j].y());
+                shifted = std::max(shifted, Vec2(d.x() * mu, d.y() * s.pieces.tile_size.y()).norm());
+            }
+        }
         CAPTURE(wandered);
-        CHECK(wandered > moved);
-        CHECK(wandered <= moved + 1.4 * o.wander + 1e-9); // two octaves: at most 1.4 × the amplitude
+        CAPTURE(shifted);
+        CHECK(shifted > 0.5 * o.wander);
+        CHECK(shifted <= 1.4 * o.wander + 1e-9);
+        CHECK(wandered <= moved + 1.4 * o.wander + 1e-9);
         CHECK(render::crack_curves(s.pieces, o)[0].uv == wandering[0].uv);
         o.seed = 2;
         CHECK(render::crack_curves(s.pieces, o)[0].uv != wandering[0].uv);
@@ -383,22 +403,64 @@ TEST_SUITE("render") {
         CHECK(turn <= 10.0);
     }
 
+    TEST_CASE("grooves: the scan finds every pixel's nearest curve point, as scanning each segment's whole "
+              "neighbourhood does (tight bends, turns past 90°, a loop, a loop round the period, curl on)") {
+        const FlatTile tile;
+        const PixelGrid& g = tile.g;
+        const double top = tile.top;
+        const std::vector<float>& tops = tile.tops;
+        render::GrooveOptions o = options(g);
+        o.curl = 0.3;
+        o.curl_reach = 0.01; // the rims' lift reaches 10 mm: every curve scans 51 px each side
+        std::vector<render::CrackCurve> curves;
+        std::vector<Vec2> bend, zigzag, loop, around;
+        for (int k = 0; k <= 60; ++k) { // a bend of 3 mm radius, far tighter than the scan
+            const double a = PI * k / 40.0;
+            bend.emplace_back(0.3 + 0.06 * std::cos(a), 0.3 + 0.06 * std::sin(a));
+        }
+        for (int k = 0; k <= 12; ++k) // turns of 127° and of 53°, a segment each
+            zigzag.emplace_back(0.55 + 0.02 * k, 0.25 + (k % 2 ? 0.04 : 0.0) + (k % 3 == 0 ? 0.02 : 0.0));
+        for (int k = 0; k <= 48; ++k) {
+            const double a = 2 * PI * k / 48.0;
+            loop.emplace_back(0.7 + 0.1 * std::cos(a), 0.7 + 0.07 * std::sin(2 * a) + 0.02 * std::sin(a));
+        }
+        loop.back() = loop.front();
+        for (int k = 0; k <= 40; ++k) // closes on its image one period on in u
+            around.emplace_back(k / 40.0,
+                                0.45 + 0.03 * std::sin(2 * PI * k / 40.0) + 0.01 * std::sin(6 * PI * k / 40.0));
+        for (const auto* pts : {&bend, &zigzag, &loop, &around})
+            curves.push_back(curve(*pts, 0.0004f));
+        curves[2].closed = curves[3].closed = true;
+        const render::GrooveField f = render::groove_field(g, curves, tops, o);
+        render::GrooveOptions all = o;
+        all.wedge_margin_px = 1e9;
+        const render::GrooveField reference = render::groove_field(g, curves, tops, all);
+        double worst = 0, lifted = 0;
+        for (std::size_t i = 0; i < g.pixels(); ++i) {
+            worst = std::max({worst, std::abs(double(f.drop[i]) - reference.drop[i]),
+                              std::abs(double(f.lift[i]) - reference.lift[i]),
+                              top * std::abs(double(f.coverage[i]) - reference.coverage[i])});
+            lifted = std::max(lifted, double(reference.lift[i]));
+        }
+        CAPTURE(worst);
+        CHECK(lifted > 0.1 * top);
+        CHECK(worst <= 1e-6 * top);
+    }
+
     TEST_CASE("grooves: with bake.crack_depth = 0 the simulation sets the depth: an opened crack goes through the "
               "layer, a closed one is cut by the bevel") {
-        const PixelGrid g = plane_grid(256, 0.05);
-        const double top = 0.008;
-        const std::vector<float> tops(g.pixels(), static_cast<float>(top));
-        render::GrooveOptions o = options(g);
+        const FlatTile tile;
+        render::GrooveOptions o = options(tile.g);
         o.crack_depth = 0;
         o.bevel = 0.002;
         const int y = 100, mid = 128;
         const auto drop_at_crack = [&](float opening) {
             const std::vector<render::CrackCurve> curves{
                 curve({Vec2(0.5, -0.2), Vec2(0.5, 0.4), Vec2(0.5, 1.2)}, opening)};
-            return double(render::groove_field(g, curves, tops, o).drop[g.index(mid, y)]);
+            return double(render::groove_field(tile.g, curves, tile.tops, o).drop[tile.g.index(mid, y)]);
         };
         // Before this, both were 0: the table-5-2 presets baked with curves showed no cracks at all.
-        CHECK(drop_at_crack(0.001f) == doctest::Approx(top).epsilon(0.02));
+        CHECK(drop_at_crack(0.001f) == doctest::Approx(tile.top).epsilon(0.02));
         CHECK(drop_at_crack(0.0f) == doctest::Approx(o.bevel).epsilon(0.05));
     }
 
