@@ -531,7 +531,16 @@ GrooveField groove_field(const PixelGrid& g, const std::vector<CrackCurve>& curv
                 }
                 if (xlo > xhi) continue;
                 int x0 = static_cast<int>(std::ceil(xlo / mu)), x1 = static_cast<int>(std::floor(xhi / mu));
-                if (x1 - x0 >= W) x1 = x0 + W - 1;
+                if (x1 - x0 >= W) {
+                    // Near the sphere's poles a row's rectangle can be wider than the period: each
+                    // column then has several images in it, and its distance, convex along the
+                    // row, is least at one of the two images either side of the row's closest
+                    // point to the segment. Scan those.
+                    const double ty = ab.y() != 0 ? std::clamp((ym - a.y()) / ab.y(), 0.0, 1.0) : 0.0;
+                    const int closest = static_cast<int>(std::floor((a.x() + ty * ab.x()) / mu));
+                    x0 = std::max(x0, closest - W + 1);
+                    x1 = std::min(x1, closest + W);
+                }
                 Nearest* row = &state[static_cast<std::size_t>((y - h0) * W)];
                 for (int x = x0, wrapped = ((x0 % W) + W) % W; x <= x1;
                      ++x, wrapped = wrapped + 1 < W ? wrapped + 1 : 0) {

@@ -447,6 +447,53 @@ TEST_SUITE("render") {
         CHECK(worst <= 1e-6 * top);
     }
 
+    TEST_CASE("grooves: next to a sphere's pole, where a row's scan is wider than the period, every pixel is as "
+              "far from the curve as its nearest image") {
+        // Rows of a sphere's map, the metres per pixel along u shrinking with the latitude's
+        // cosine (render::metres_per_u); a curve close to the top pole.
+        PixelGrid g;
+        g.width = 256;
+        g.height = 128;
+        g.wrap_v = false;
+        g.metres_v = 0.05 / g.height;
+        for (int y = 0; y < g.height; ++y) {
+            const double v = 1.0 - (y + 0.5) / g.height;
+            g.metres_u.push_back(0.1 * std::max(std::cos(PI * (v - 0.5)), 1e-3) / g.width);
+        }
+        const std::vector<float> tops(g.pixels(), 0.008f);
+        const render::GrooveOptions o = options(g);
+        const std::vector<render::CrackCurve> curves{
+            curve({Vec2(0.1, 0.96), Vec2(0.45, 0.985), Vec2(0.8, 0.975), Vec2(0.95, 0.99)}, 0.0004f)};
+        const render::GrooveField f = render::groove_field(g, curves, tops, o);
+        // Each row measured in its own metres, as the bake does; every image of the pixel a period
+        // apart along u tried.
+        std::vector<Vec2> px;
+        for (const Vec2& uv : curves[0].uv)
+            px.emplace_back(uv.x() * g.width - 0.5, (1.0 - uv.y()) * g.height - 0.5);
+        double worst = 0;
+        int checked = 0;
+        for (int y = 0; y < 12; ++y) {
+            const double mu = g.metres_u[static_cast<std::size_t>(y)], mv = g.metres_v;
+            for (int x = 0; x < g.width; ++x) {
+                double best = 1e300;
+                for (int k = -40; k <= 40; ++k)
+                    for (std::size_t i = 0; i + 1 < px.size(); ++i) {
+                        const Vec2 a(px[i].x() * mu, px[i].y() * mv), b(px[i + 1].x() * mu, px[i + 1].y() * mv);
+                        const Vec2 q((x + k * g.width) * mu, y * mv), ab = b - a;
+                        const double t = std::clamp((q - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
+                        best = std::min(best, (q - a - t * ab).norm());
+                    }
+                if (best > 0.004) continue; // within the groove (its extent is over 6 mm)
+                ++checked;
+                worst = std::max(worst, std::abs(double(f.distance[g.index(x, y)]) - best));
+            }
+        }
+        CAPTURE(checked);
+        CAPTURE(worst);
+        CHECK(checked > 2000);
+        CHECK(worst <= 1e-6);
+    }
+
     TEST_CASE("grooves: with bake.crack_depth = 0 the simulation sets the depth: an opened crack goes through the "
               "layer, a closed one is cut by the bevel") {
         const FlatTile tile;
