@@ -418,7 +418,7 @@ TEST_SUITE("render") {
             const double a = PI * k / 40.0;
             bend.emplace_back(0.3 + 0.06 * std::cos(a), 0.3 + 0.06 * std::sin(a));
         }
-        for (int k = 0; k <= 12; ++k) // turns of 127° and of 53°, a segment each
+        for (int k = 0; k <= 12; ++k) // turns of 90° to 143° at every point
             zigzag.emplace_back(0.55 + 0.02 * k, 0.25 + (k % 2 ? 0.04 : 0.0) + (k % 3 == 0 ? 0.02 : 0.0));
         for (int k = 0; k <= 48; ++k) {
             const double a = 2 * PI * k / 48.0;
