@@ -4,6 +4,7 @@
 /// count (the maps are byte-identical with 1 or 2 threads; tested).
 
 #include <algorithm>
+#include <atomic>
 #include <cstdlib>
 #include <string>
 #include <thread>
@@ -27,9 +28,10 @@ inline int worker_threads() {
     return std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
 }
 
-/// Calls body(row) for row in [0, rows), rows interleaved over the worker threads.
-template <typename Body> void parallel_rows(int rows, const Body& body) {
-    const int threads = std::min(worker_threads(), std::max(1, rows / 16));
+/// Calls body(row) for row in [0, rows), rows interleaved over the worker threads (at least
+/// `least_rows` rows per thread: cheap rows are not worth a thread each).
+template <typename Body> void parallel_rows(int rows, const Body& body, int least_rows = 16) {
+    const int threads = std::min(worker_threads(), std::max(1, rows / std::max(least_rows, 1)));
     if (threads <= 1) {
         for (int r = 0; r < rows; ++r)
             body(r);
@@ -44,6 +46,25 @@ template <typename Body> void parallel_rows(int rows, const Body& body) {
     for (int t = 1; t < threads; ++t)
         pool.emplace_back(run, t);
     run(0);
+    for (auto& th : pool)
+        th.join();
+}
+
+/// Calls body(task) for task in [0, tasks), each taken by the next free worker thread: for
+/// tasks of uneven cost (blocks of a map with more or less in them). As with parallel_rows, each
+/// task must write only its own outputs, so results do not depend on which thread ran it.
+template <typename Body> void parallel_tasks(int tasks, const Body& body) {
+    const int threads = std::min(worker_threads(), std::max(1, tasks));
+    std::atomic<int> next{0};
+    auto run = [&] {
+        for (int t = next++; t < tasks; t = next++)
+            body(t);
+    };
+    std::vector<std::thread> pool;
+    pool.reserve(static_cast<std::size_t>(threads - 1));
+    for (int t = 1; t < threads; ++t)
+        pool.emplace_back(run);
+    run();
     for (auto& th : pool)
         th.join();
 }

@@ -61,27 +61,32 @@ DistanceField distance_transform(const PixelGrid& g, const std::vector<std::uint
     // rows (row-major, so the image streams through the cache once per sweep); with v wrapping
     // the sweeps start one period early so sources across the border count.
     std::vector<int> col_row(g.pixels(), NO_POSITION); // the nearest source row (unwrapped)
-    {
-        std::vector<int> last(static_cast<std::size_t>(w), NO_POSITION);
-        for (int y = g.wrap_v ? -h : 0; y < h; ++y) {
-            const int row = wrap_index(y, h);
-            for (int x = 0; x < w; ++x) {
-                if (source[g.index(x, row)]) last[static_cast<std::size_t>(x)] = y;
-                if (y >= 0) col_row[g.index(x, y)] = last[static_cast<std::size_t>(x)];
+    constexpr int BANDS = 16;                          // bands of columns, swept on the worker threads side by side
+    parallel_rows(
+        BANDS,
+        [&](int band) {
+            const int x0 = band * w / BANDS, x1 = (band + 1) * w / BANDS;
+            std::vector<int> last(static_cast<std::size_t>(w), NO_POSITION);
+            for (int y = g.wrap_v ? -h : 0; y < h; ++y) {
+                const int row = wrap_index(y, h);
+                for (int x = x0; x < x1; ++x) {
+                    if (source[g.index(x, row)]) last[static_cast<std::size_t>(x)] = y;
+                    if (y >= 0) col_row[g.index(x, y)] = last[static_cast<std::size_t>(x)];
+                }
             }
-        }
-        std::fill(last.begin(), last.end(), NO_POSITION);
-        for (int y = g.wrap_v ? 2 * h - 1 : h - 1; y >= 0; --y) {
-            const int row = wrap_index(y, h);
-            for (int x = 0; x < w; ++x) {
-                const int b = source[g.index(x, row)] ? y : last[static_cast<std::size_t>(x)];
-                last[static_cast<std::size_t>(x)] = b;
-                if (y >= h || b == NO_POSITION) continue;
-                int& a = col_row[g.index(x, y)];
-                if (a == NO_POSITION || b - y < y - a) a = b;
+            std::fill(last.begin(), last.end(), NO_POSITION);
+            for (int y = g.wrap_v ? 2 * h - 1 : h - 1; y >= 0; --y) {
+                const int row = wrap_index(y, h);
+                for (int x = x0; x < x1; ++x) {
+                    const int b = source[g.index(x, row)] ? y : last[static_cast<std::size_t>(x)];
+                    last[static_cast<std::size_t>(x)] = b;
+                    if (y >= h || b == NO_POSITION) continue;
+                    int& a = col_row[g.index(x, y)];
+                    if (a == NO_POSITION || b - y < y - a) a = b;
+                }
             }
-        }
-    }
+        },
+        1);
     std::vector<float> col_d2(g.pixels(), std::numeric_limits<float>::infinity());
     const double av = g.metres_v * g.metres_v;
     parallel_rows(h, [&](int y) {

@@ -45,6 +45,80 @@ double fbm(double u, double v, Cells c, std::uint32_t seed, int octaves) {
     return sum / total;
 }
 
+FbmRow::FbmRow(double v, Cells c, std::uint32_t seed, int octaves) : m_count(std::clamp(octaves, 0, MAX_OCTAVES)) {
+    for (int o = 0; o < m_count; ++o) {
+        Octave& k = m_octaves[o];
+        k.cells = Cells{c.u << o, c.v << o};
+        k.seed_hash = hash32(seed + static_cast<std::uint32_t>(o) * 1013u);
+        const double y = v * k.cells.v, fy = std::floor(y);
+        k.ty = y - fy;
+        k.ty = k.ty * k.ty * (3.0 - 2.0 * k.ty);
+        k.j0 = wrap_cell(static_cast<int>(fy), k.cells.v);
+        k.j1 = k.j0 + 1 == k.cells.v ? 0 : k.j0 + 1;
+    }
+}
+
+double FbmRow::operator()(double u) {
+    double sum = 0, amplitude = 0.5, total = 0;
+    for (int o = 0; o < m_count; ++o) {
+        Octave& k = m_octaves[o];
+        // value_noise(u, v, k.cells, seed + o · 1013), its row terms kept.
+        const double x = u * k.cells.u, fx = std::floor(x);
+        double tx = x - fx;
+        tx = tx * tx * (3.0 - 2.0 * tx);
+        if (const int cell = static_cast<int>(fx); !k.cached || cell != k.cell) {
+            const int i0 = wrap_cell(cell, k.cells.u), i1 = i0 + 1 == k.cells.u ? 0 : i0 + 1;
+            k.cell = cell, k.cached = true;
+            k.a = lattice(i0, k.j0, k.seed_hash), k.b = lattice(i1, k.j0, k.seed_hash);
+            k.d = lattice(i0, k.j1, k.seed_hash), k.e = lattice(i1, k.j1, k.seed_hash);
+        }
+        const double value = (k.a + (k.b - k.a) * tx) + ((k.d + (k.e - k.d) * tx) - (k.a + (k.b - k.a) * tx)) * k.ty;
+        sum += amplitude * value;
+        total += amplitude;
+        amplitude *= 0.5;
+    }
+    return sum / total;
+}
+
+void FbmRow::fill(int width, std::vector<double>& out) const {
+    const auto n = static_cast<std::size_t>(std::max(width, 0));
+    out.assign(n, 0.0);
+    std::vector<double> near_row, far_row; // the lattice along rows j0 and j1, one past the end wrapped
+    std::vector<int> cell(n);
+    std::vector<double> tx(n);
+    double amplitude = 0.5, total = 0;
+    for (int o = 0; o < m_count; ++o) {
+        const Octave& k = m_octaves[o];
+        const int cells = k.cells.u;
+        near_row.resize(static_cast<std::size_t>(cells) + 1);
+        far_row.resize(static_cast<std::size_t>(cells) + 1);
+        for (int i = 0; i <= cells; ++i) {
+            const int wrapped = i == cells ? 0 : i;
+            near_row[static_cast<std::size_t>(i)] = lattice(wrapped, k.j0, k.seed_hash);
+            far_row[static_cast<std::size_t>(i)] = lattice(wrapped, k.j1, k.seed_hash);
+        }
+        for (std::size_t x = 0; x < n; ++x) {
+            const double u = (double(x) + 0.5) / width;
+            // u > 0, so the floor is the truncation (a conversion that vectorises; std::floor
+            // is a call without SSE4.1).
+            const double at = u * cells;
+            const int c = static_cast<int>(at);
+            const double t = at - double(c);
+            tx[x] = t * t * (3.0 - 2.0 * t);
+            cell[x] = c < cells ? c : wrap_cell(c, cells); // in range but for rounding
+        }
+        for (std::size_t x = 0; x < n; ++x) {
+            const auto i = static_cast<std::size_t>(cell[x]);
+            const double a = near_row[i], b = near_row[i + 1], d = far_row[i], e = far_row[i + 1], t = tx[x];
+            out[x] += amplitude * ((a + (b - a) * t) + ((d + (e - d) * t) - (a + (b - a) * t)) * k.ty);
+        }
+        total += amplitude;
+        amplitude *= 0.5;
+    }
+    for (double& value : out)
+        value /= total;
+}
+
 CellSample cellular(double u, double v, Cells c, std::uint32_t seed) {
     const double x = u * c.u, y = v * c.v;
     const int i = static_cast<int>(std::floor(x)), j = static_cast<int>(std::floor(y));

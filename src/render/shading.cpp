@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 
 namespace crackle::render {
 
@@ -78,17 +79,25 @@ Shading shade(const RasterLayers& layers, const Relief& relief, const std::vecto
     const SrgbTable srgb8;
     parallel_rows(g.height, [&](int y) {
         const double v = 1.0 - (y + 0.5) / g.height;
+        std::vector<double> grain_row, crack_row;
+        FbmRow(v, grain_cells, o.seed).fill(g.width, grain_row);
+        FbmRow(v, Cells{grain_cells.u * 2, grain_cells.v * 2}, o.seed + 7u, 2).fill(g.width, crack_row);
+        int row_label = std::numeric_limits<int>::min();
+        double r0 = 0.5, r1 = 0.5, r2 = 0.5;
         for (int x = 0; x < g.width; ++x) {
             const std::size_t i = g.index(x, y);
-            const double u = (x + 0.5) / g.width;
             const int label = layers.label[i];
-            // Per-piece variation: mostly brightness, a little hue (tinted glass otherwise).
-            const double r0 = label >= 0 ? piece_random(label, 0u, o.seed) : 0.5;
-            const double r1 = label >= 0 ? piece_random(label, 1u, o.seed) : 0.5;
-            const double r2 = label >= 0 ? piece_random(label, 2u, o.seed) : 0.5;
+            // Per-piece variation: mostly brightness, a little hue (tinted glass otherwise); the
+            // piece's numbers kept while the row stays in it.
+            if (label != row_label) {
+                row_label = label;
+                r0 = label >= 0 ? piece_random(label, 0u, o.seed) : 0.5;
+                r1 = label >= 0 ? piece_random(label, 1u, o.seed) : 0.5;
+                r2 = label >= 0 ? piece_random(label, 2u, o.seed) : 0.5;
+            }
             const Vec3 tint = Vec3::Ones() + o.color_variation * 0.12 * Vec3(r1 - 0.5, r2 - 0.5, 0.5 - r1);
             const double brightness = 1.0 + 0.6 * o.color_variation * (r0 - 0.5);
-            const double grain = 1.0 + o.grain * (2.0 * fbm(u, v, grain_cells, o.seed) - 1.0);
+            const double grain = 1.0 + o.grain * (2.0 * grain_row[static_cast<std::size_t>(x)] - 1.0);
             const double detail = relief.detail[i];
             // Ridges lighter than furrows: the top colour darkens a little with depth below the
             // tallest point and brightens on the micro-relief's raised parts.
@@ -98,10 +107,8 @@ Shading shade(const RasterLayers& layers, const Relief& relief, const std::vecto
                 o.color.cwiseProduct(tint) * brightness * grain * flake * (0.8 + 0.2 * height) * (1.0 + 0.2 * detail);
             // Cracks: darker with depth; a young crack's fresh walls a little lighter.
             const double age = relief.age[i];
-            const Vec3 crack =
-                o.crack_color * (1.0 + 0.35 * (1.0 - age)) * (0.7 + 0.3 * height)
-                * (1.0
-                   + 0.5 * o.grain * (fbm(u, v, Cells{grain_cells.u * 2, grain_cells.v * 2}, o.seed + 7u, 2) - 0.5));
+            const Vec3 crack = o.crack_color * (1.0 + 0.35 * (1.0 - age)) * (0.7 + 0.3 * height)
+                               * (1.0 + 0.5 * o.grain * (crack_row[static_cast<std::size_t>(x)] - 0.5));
             const double in_crack = std::max(double(relief.coverage[i]), smoothstep(0.15, 0.85, relief.groove[i]));
             const double cavity = 1.0 - o.cavity * (1.0 - ao[i]);
             const Vec3 albedo = ((1.0 - in_crack) * top + in_crack * crack) * cavity;

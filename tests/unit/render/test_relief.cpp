@@ -134,6 +134,24 @@ TEST_SUITE("render") {
         CHECK(render::value_noise(0.3, 0.3, cells, 1) != render::value_noise(0.3, 0.3, cells, 2));
     }
 
+    TEST_CASE("noise: a row's fractal noise (FbmRow, per pixel and a whole row at once) is fbm() bit for bit") {
+        for (const render::Cells cells : {render::Cells{5, 3}, render::Cells{1, 1}, render::Cells{37, 12}})
+            for (int octaves : {1, 2, 4})
+                for (double v : {0.0, 0.31, 0.999}) {
+                    const int width = 333;
+                    render::FbmRow row(v, cells, 11u, octaves);
+                    std::vector<double> filled;
+                    render::FbmRow(v, cells, 11u, octaves).fill(width, filled);
+                    REQUIRE(filled.size() == std::size_t(width));
+                    for (int x = 0; x < width; ++x) {
+                        const double u = (x + 0.5) / width, expected = render::fbm(u, v, cells, 11u, octaves);
+                        CAPTURE(x);
+                        REQUIRE(row(u) == expected); // exactly: the maps must not move
+                        REQUIRE(filled[std::size_t(x)] == expected);
+                    }
+                }
+    }
+
     TEST_CASE("relief: a crack's groove reaches as far as its weight, and heights stay within [0, top]") {
         const PixelGrid g = grid(160, 32, 0.001, 0.001, true);
         render::RasterLayers layers = plate(g, 0.01);
