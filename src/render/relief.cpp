@@ -145,6 +145,48 @@ std::vector<float> upsample2(const PixelGrid& g, const std::vector<float>& small
     return out;
 }
 
+std::vector<float> upsample_cubic(const PixelGrid& coarse, const std::vector<float>& field, int k) {
+    const int cw = coarse.width, ch = coarse.height, W = cw * k, H = ch * k;
+    // The four weights of each of the k phases between coarse centres.
+    std::vector<std::array<double, 4>> weights(static_cast<std::size_t>(k));
+    std::vector<int> base(static_cast<std::size_t>(k));
+    for (int f = 0; f < k; ++f) {
+        const double at = (f + 0.5) / k - 0.5, t = at - std::floor(at);
+        base[static_cast<std::size_t>(f)] = static_cast<int>(std::floor(at)) - 1;
+        weights[static_cast<std::size_t>(f)] = {0.5 * (-t * t * t + 2 * t * t - t),
+                                                0.5 * (3 * t * t * t - 5 * t * t + 2),
+                                                0.5 * (-3 * t * t * t + 4 * t * t + t), 0.5 * (t * t * t - t * t)};
+    }
+    std::vector<float> rows(static_cast<std::size_t>(ch) * std::size_t(W)), out(std::size_t(W) * std::size_t(H));
+    parallel_rows(ch, [&](int y) { // along u, every coarse row
+        for (int x = 0; x < W; ++x) {
+            const auto f = static_cast<std::size_t>(x % k);
+            double v = 0;
+            for (int m = 0; m < 4; ++m) {
+                const int c = ((x / k + base[f] + m) % cw + cw) % cw;
+                v += weights[f][static_cast<std::size_t>(m)] * field[coarse.index(c, y)];
+            }
+            rows[static_cast<std::size_t>(y) * std::size_t(W) + std::size_t(x)] = static_cast<float>(v);
+        }
+    });
+    parallel_rows(H, [&](int y) { // along v
+        const auto f = static_cast<std::size_t>(y % k);
+        std::array<const float*, 4> line{};
+        for (int m = 0; m < 4; ++m) {
+            int c = y / k + base[f] + m;
+            c = coarse.wrap_v ? (c % ch + ch) % ch : std::clamp(c, 0, ch - 1);
+            line[static_cast<std::size_t>(m)] = &rows[static_cast<std::size_t>(c) * std::size_t(W)];
+        }
+        for (int x = 0; x < W; ++x) {
+            double v = 0;
+            for (std::size_t m = 0; m < 4; ++m)
+                v += weights[f][m] * line[m][x];
+            out[static_cast<std::size_t>(y) * std::size_t(W) + std::size_t(x)] = static_cast<float>(v);
+        }
+    });
+    return out;
+}
+
 std::vector<float> blur(const PixelGrid& g, const std::vector<float>& values, double sigma_px) {
     const int r = static_cast<int>(std::lround(sigma_px));
     if (r < 1) return values;

@@ -67,6 +67,11 @@ void relabel_cracks(RasterLayers& layers, const Relief& relief);
 PixelGrid half_grid(const PixelGrid& grid);
 std::vector<float> upsample2(const PixelGrid& grid, const std::vector<float>& small);
 
+/// A field on `coarse` (k times coarser than the map in each direction) at the map's pixels: cubic
+/// (Catmull-Rom) interpolation between the coarse pixels' centres, wrapping in u (and in v where the
+/// grid does; else the edge rows repeat). It passes through the coarse values and has continuous slopes.
+std::vector<float> upsample_cubic(const PixelGrid& coarse, const std::vector<float>& field, int k);
+
 /// A Gaussian-like blur (three box passes each way) of about `sigma_px` pixels; wraps in u,
 /// and in v when grid.wrap_v.
 std::vector<float> blur(const PixelGrid& grid, const std::vector<float>& values, double sigma_px);

@@ -19,8 +19,10 @@ Relief shape_relief_curves(const RasterLayers& layers, const std::vector<CrackCu
     // === 1. The plates' height, smoothed over about a third of an element and continued across
     // the cracks (the grooves are cut into it below, from the crack curves).
     std::vector<std::uint8_t> plate(px);
-    for (std::size_t i = 0; i < px; ++i)
-        plate[i] = !layers.crack[i];
+    parallel_rows(g.height, [&](int y) {
+        for (std::size_t i = g.index(0, y), end = i + std::size_t(g.width); i < end; ++i)
+            plate[i] = !layers.crack[i];
+    });
     const double sigma_px = o.element_size > 0 ? 0.35 * o.element_size / g.metres_v : 0.0;
     const PlateHeights plates = plate_heights(layers, plate, sigma_px);
     std::vector<float> top = smooth_plates(g, plates, sigma_px);
@@ -31,12 +33,14 @@ Relief shape_relief_curves(const RasterLayers& layers, const std::vector<CrackCu
         const DistanceField near = distance_transform(g, plate, true);
         const double reach = std::max(1.5, sigma_px) * g.metres_v;
         const std::vector<float> wide = smooth_plates(g, plates, 3.0 * std::max(sigma_px, 2.0));
-        for (std::size_t i = 0; i < px; ++i) {
-            if (plate[i]) continue;
-            const double w = std::clamp(near.distance[i] / reach, 0.0, 1.0);
-            const double fill = wide[i] > 0 ? wide[i] : top[near.nearest[i]];
-            top[i] = static_cast<float>((1 - w * w * (3 - 2 * w)) * top[i] + w * w * (3 - 2 * w) * fill);
-        }
+        parallel_rows(g.height, [&](int y) { // (a crack pixel's nearest plate pixel keeps its height)
+            for (std::size_t i = g.index(0, y), end = i + std::size_t(g.width); i < end; ++i) {
+                if (plate[i]) continue;
+                const double w = std::clamp(near.distance[i] / reach, 0.0, 1.0);
+                const double fill = wide[i] > 0 ? wide[i] : top[near.nearest[i]];
+                top[i] = static_cast<float>((1 - w * w * (3 - 2 * w)) * top[i] + w * w * (3 - 2 * w) * fill);
+            }
+        });
     }
     const double t_top = timer.seconds();
 
