@@ -375,9 +375,6 @@ std::vector<std::size_t> kept_points(const std::vector<Vec2>& at, const std::vec
         const double l2 = chord.squaredNorm();
         const double t = l2 > 0 ? std::clamp((at[m] - at[i]).dot(chord) / l2, 0.0, 1.0) : 0.0;
         const Profile& p = profile[m];
-        // Where a groove fades out of the join (a tapering tip), its share moves the joined distance by up
-        // to r / fade: those points are all kept.
-        if (p.share < SHALLOW) return std::numeric_limits<double>::infinity();
         const Profile q = lerp(profile[i], profile[j], t);
         // A wall of slope tan α turns a shift across it into α's tangent times that in height.
         const double reach = std::max(p.reach, q.reach) / pixel, wall = std::max(1.0, std::tan(double(p.alpha)));
@@ -390,9 +387,18 @@ std::vector<std::size_t> kept_points(const std::vector<Vec2>& at, const std::vec
              // a segment's extent (where its curve fades out of the join) is its ends' larger
              std::abs(std::max(extent(i), extent(j)) - extent(m)) / pixel});
     };
+    // Where a groove fades out of the join (a tapering tip), its share moves the joined distance by
+    // up to r / fade: those points are all kept, and the runs between them simplified.
     std::vector<std::uint8_t> keep(n, 0);
     keep.front() = keep.back() = 1;
-    std::vector<std::pair<std::size_t, std::size_t>> spans{{0, n - 1}};
+    for (std::size_t i = 0; i < n; ++i)
+        keep[i] = keep[i] || profile[i].share < SHALLOW;
+    std::vector<std::pair<std::size_t, std::size_t>> spans;
+    for (std::size_t i = 0, last = 0; i < n; ++i)
+        if (i > 0 && keep[i]) {
+            if (i - last > 1) spans.emplace_back(last, i);
+            last = i;
+        }
     while (!spans.empty()) {
         const auto [i, j] = spans.back();
         spans.pop_back();
@@ -443,9 +449,12 @@ GrooveField groove_field(const PixelGrid& g, const std::vector<CrackCurve>& curv
     // varies there on the scale of the reach and of the join's rounding: it is measured on a grid
     // coarser by k (its step at most a third of the join radius) and interpolated bicubically.
     const bool curl = o.curl > 0 && o.curl_reach > 0;
+    // On the sphere's map (rows of shrinking width) the coarser grid was 2.9 % of the lift and 4°
+    // (99th percentile of the normals) off in the tests: there the lift is measured at every pixel.
     int k = o.lift_step_px;
     if (k <= 0)
-        for (k = 1; 2 * k * o.pixel <= o.join_radius / 3.0 * (1 + 1e-9) && W % (2 * k) == 0 && H % (2 * k) == 0;)
+        for (k = 1;
+             g.wrap_v && 2 * k * o.pixel <= o.join_radius / 3.0 * (1 + 1e-9) && W % (2 * k) == 0 && H % (2 * k) == 0;)
             k *= 2;
     CRACKLE_ASSERT(W % k == 0 && H % k == 0, "the lift's step " << k << " does not divide the map");
     std::vector<std::vector<Profile>> profiles(curves.size()), coarse_profiles(curves.size());

@@ -466,67 +466,84 @@ TEST_SUITE("render") {
         CHECK(worst <= 1e-6 * top);
     }
 
-    TEST_CASE("grooves: the curl's lift, measured on a grid 4 px apart beyond the grooves and interpolated, is the "
-              "lift measured at every pixel (cracks meeting in a T and a Y, a bend), and adds no crease") {
-        const PixelGrid g = plane_grid(256, 0.05);
-        const double top = 0.008;
-        const std::vector<float> tops(g.pixels(), static_cast<float>(top));
-        render::GrooveOptions o = options(g);
-        o.curl = 0.3;
-        o.curl_reach = 0.01;             // 51 px from the lip
-        o.join_radius = 12 * g.metres_v; // the lift's grid: 4 px (a third of the join radius)
-        const Vec2 t0(0.3, 0.3), y0(0.7, 0.7);
-        std::vector<render::CrackCurve> curves{
-            curve({Vec2(0.05, 0.3), t0, Vec2(0.55, 0.3)}, 0.0008f),
-            curve({t0, Vec2(0.3, 0.15), Vec2(0.3, 0.02)}, 0.0008f, 0.8f),
-            curve({y0, y0 + 0.15 * Vec2(1, 0)}, 0.0008f),
-            curve({y0, y0 + 0.15 * Vec2(-0.5, 0.866)}, 0.0008f, 0.5f),
-            curve({y0, y0 + 0.15 * Vec2(-0.5, -0.866)}, 0.0002f),
-        };
-        std::vector<Vec2> arc;
-        for (int k = 0; k <= 40; ++k)
-            arc.push_back(Vec2(0.72, 0.05) + 0.16 * Vec2(std::cos(0.5 * PI * k / 40), std::sin(0.5 * PI * k / 40)));
-        curves.push_back(curve(arc, 0.0008f));
-        auto relief = [&](int step) {
-            render::GrooveOptions with = o;
-            with.lift_step_px = step;
-            const render::GrooveField f = render::groove_field(g, curves, tops, with);
-            std::vector<float> h(g.pixels());
-            for (std::size_t i = 0; i < h.size(); ++i)
-                h[i] = static_cast<float>(top + f.lift[i] - f.drop[i] * (1.0 + f.lift[i] / top));
-            return h;
-        };
-        const std::vector<float> exact = relief(1), coarse = relief(0);
-        // The largest height difference (as a share of the curl's lift) and the 99th percentile of
-        // the angle between the normals: the exact field has cone points (the bend's centre, where
-        // the whole arc is equally far) that the interpolation rounds over a few pixels.
-        auto compare = [&](const std::vector<float>& h) {
-            const std::vector<float> n = render::normals_from_height(g, h), m = render::normals_from_height(g, exact);
-            double height = 0;
-            std::vector<double> angles;
-            for (std::size_t i = 0; i < h.size(); ++i) {
-                height = std::max(height, std::abs(double(h[i]) - exact[i]));
-                const double dot = n[3 * i] * m[3 * i] + n[3 * i + 1] * m[3 * i + 1] + n[3 * i + 2] * m[3 * i + 2];
-                angles.push_back(std::acos(std::clamp(dot, -1.0, 1.0)) * RAD_TO_DEG);
-            }
-            std::nth_element(angles.begin(), angles.begin() + long(0.99 * double(angles.size())), angles.end());
-            return std::pair{height / (o.curl * top), angles[std::size_t(0.99 * double(angles.size()))]};
-        };
-        const auto [height, angle] = compare(coarse);
-        CAPTURE(height);
-        CAPTURE(angle);
-        CHECK(height <= 0.01);
-        CHECK(angle <= 0.5);
-        const double turn = largest_turn(g, coarse), exact_turn = largest_turn(g, exact);
-        CAPTURE(turn);
-        CAPTURE(exact_turn);
-        CHECK(turn <= exact_turn + 0.5);
-        // Control: a grid 16 px apart (wider than the join's rounding) is off by more.
-        const auto [far_height, far_angle] = compare(relief(16));
-        CAPTURE(far_height);
-        CAPTURE(far_angle);
-        CHECK(far_height > 0.01);
-        CHECK(far_angle > 0.5);
+    TEST_CASE(
+        "grooves: the curl's lift, measured on a grid 4 px apart beyond the grooves and interpolated, is the "
+        "lift measured at every pixel (cracks meeting in a T and a Y, a bend), and adds no crease: on a plane and on "
+        "a sphere's map (rows shrinking towards the poles)") {
+        PixelGrid sphere;
+        sphere.width = 256;
+        sphere.height = 128;
+        sphere.wrap_v = false;
+        sphere.metres_v = 0.05 / sphere.height;
+        for (int y = 0; y < sphere.height; ++y)
+            sphere.metres_u.push_back(0.1 * std::max(std::cos(PI * (0.5 - (y + 0.5) / sphere.height)), 1e-3)
+                                      / sphere.width);
+        for (const PixelGrid& g : {plane_grid(256, 0.05), sphere}) {
+            CAPTURE(g.wrap_v);
+            const double top = 0.008;
+            const std::vector<float> tops(g.pixels(), static_cast<float>(top));
+            render::GrooveOptions o = options(g);
+            o.curl = 0.3;
+            o.curl_reach = 0.01;             // 51 px from the lip
+            o.join_radius = 12 * g.metres_v; // the lift's grid: 4 px (a third of the join radius)
+            const Vec2 t0(0.3, 0.3), y0(0.7, 0.7);
+            std::vector<render::CrackCurve> curves{
+                curve({Vec2(0.05, 0.3), t0, Vec2(0.55, 0.3)}, 0.0008f),
+                curve({t0, Vec2(0.3, 0.15), Vec2(0.3, 0.02)}, 0.0008f, 0.8f),
+                curve({y0, y0 + 0.15 * Vec2(1, 0)}, 0.0008f),
+                curve({y0, y0 + 0.15 * Vec2(-0.5, 0.866)}, 0.0008f, 0.5f),
+                curve({y0, y0 + 0.15 * Vec2(-0.5, -0.866)}, 0.0002f),
+            };
+            std::vector<Vec2> arc;
+            for (int k = 0; k <= 40; ++k)
+                arc.push_back(Vec2(0.72, 0.05) + 0.16 * Vec2(std::cos(0.5 * PI * k / 40), std::sin(0.5 * PI * k / 40)));
+            curves.push_back(curve(arc, 0.0008f));
+            auto relief = [&](int step) {
+                render::GrooveOptions with = o;
+                with.lift_step_px = step;
+                const render::GrooveField f = render::groove_field(g, curves, tops, with);
+                std::vector<float> h(g.pixels());
+                for (std::size_t i = 0; i < h.size(); ++i)
+                    h[i] = static_cast<float>(top + f.lift[i] - f.drop[i] * (1.0 + f.lift[i] / top));
+                return h;
+            };
+            const std::vector<float> exact = relief(1), coarse = relief(0);
+            // The largest height difference (as a share of the curl's lift) and the 99th percentile of
+            // the angle between the normals: the exact field has cone points (the bend's centre, where
+            // the whole arc is equally far) that the interpolation rounds over a few pixels.
+            auto compare = [&](const std::vector<float>& h) {
+                const std::vector<float> n = render::normals_from_height(g, h),
+                                         m = render::normals_from_height(g, exact);
+                double height = 0;
+                std::vector<double> angles;
+                for (std::size_t i = 0; i < h.size(); ++i) {
+                    height = std::max(height, std::abs(double(h[i]) - exact[i]));
+                    const double dot = n[3 * i] * m[3 * i] + n[3 * i + 1] * m[3 * i + 1] + n[3 * i + 2] * m[3 * i + 2];
+                    angles.push_back(std::acos(std::clamp(dot, -1.0, 1.0)) * RAD_TO_DEG);
+                    if (!g.wrap_v && angles.back() > 3) MESSAGE("row " << i / std::size_t(g.width));
+                }
+                std::nth_element(angles.begin(), angles.begin() + long(0.99 * double(angles.size())), angles.end());
+                return std::pair{height / (o.curl * top), angles[std::size_t(0.99 * double(angles.size()))]};
+            };
+            const auto [height, angle] = compare(coarse);
+            CAPTURE(height);
+            CAPTURE(angle);
+            CHECK(height <= 0.01);
+            CHECK(angle <= 0.5);
+            // On the sphere a grid 4 px apart was 2.9 % of the lift and 4° (99th percentile) off:
+            // the lift is measured at every pixel there.
+            if (!g.wrap_v) CHECK(height == 0.0);
+            const double turn = largest_turn(g, coarse), exact_turn = largest_turn(g, exact);
+            CAPTURE(turn);
+            CAPTURE(exact_turn);
+            CHECK(turn <= exact_turn + 0.5);
+            // Control: a grid 16 px apart (wider than the join's rounding) is off by more.
+            const auto [far_height, far_angle] = compare(relief(16));
+            CAPTURE(far_height);
+            CAPTURE(far_angle);
+            CHECK(far_height > 0.01);
+            CHECK(far_angle > 0.5);
+        }
     }
 
     TEST_CASE("grooves: a groove's shape does not depend on how far the curl's lift reaches, and the scan's "
