@@ -19,7 +19,8 @@
 /// The distance field is scan-converted per segment (render/groove_scan.hpp) within each groove's
 /// extent, so a groove's shape does not depend on the curl. The curl's lift reaches farther
 /// (post.curl_width layer heights from the lip) but varies slowly there: beyond half a groove's
-/// extent it comes from the same scan on a grid a few pixels coarser, interpolated bicubically.
+/// extent it comes from the same scan on a grid a few pixels coarser, interpolated bicubically
+/// (plane and cylinder; on the sphere at every pixel).
 /// The scan keeps only the curve points it needs (Douglas-Peucker to `simplify_px`, in height: the
 /// smoothing and the wander leave points far closer than a pixel). The cost grows with crack
 /// length × reach. Measured against every point and the lift at every pixel (docs/benchmarks.md):

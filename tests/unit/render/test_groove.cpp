@@ -38,6 +38,21 @@ PixelGrid plane_grid(int n, double metres) {
     return g;
 }
 
+/// Rows of a sphere's map (10 × 5 cm, 256 × 128 px), the metres per pixel along u shrinking with the
+/// latitude's cosine (render::metres_per_u).
+PixelGrid sphere_grid() {
+    PixelGrid g;
+    g.width = 256;
+    g.height = 128;
+    g.wrap_v = false;
+    g.metres_v = 0.05 / g.height;
+    for (int y = 0; y < g.height; ++y) {
+        const double v = 1.0 - (y + 0.5) / g.height;
+        g.metres_u.push_back(0.1 * std::max(std::cos(PI * (v - 0.5)), 1e-3) / g.width);
+    }
+    return g;
+}
+
 /// A curve through texture points, with uniform attributes.
 render::CrackCurve curve(const std::vector<Vec2>& uv, float opening, float weight = 1.0f) {
     render::CrackCurve c;
@@ -470,14 +485,7 @@ TEST_SUITE("render") {
         "grooves: the curl's lift, measured on a grid 4 px apart beyond the grooves and interpolated, is the "
         "lift measured at every pixel (cracks meeting in a T and a Y, a bend), and adds no crease: on a plane and on "
         "a sphere's map (rows shrinking towards the poles)") {
-        PixelGrid sphere;
-        sphere.width = 256;
-        sphere.height = 128;
-        sphere.wrap_v = false;
-        sphere.metres_v = 0.05 / sphere.height;
-        for (int y = 0; y < sphere.height; ++y)
-            sphere.metres_u.push_back(0.1 * std::max(std::cos(PI * (0.5 - (y + 0.5) / sphere.height)), 1e-3)
-                                      / sphere.width);
+        const PixelGrid sphere = sphere_grid();
         for (const PixelGrid& g : {plane_grid(256, 0.05), sphere}) {
             CAPTURE(g.wrap_v);
             const double top = 0.008;
@@ -601,17 +609,8 @@ TEST_SUITE("render") {
 
     TEST_CASE("grooves: next to a sphere's pole, where a row's scan is wider than the period, every pixel is as "
               "far from the curve as its nearest image") {
-        // Rows of a sphere's map, the metres per pixel along u shrinking with the latitude's
-        // cosine (render::metres_per_u); a curve close to the top pole.
-        PixelGrid g;
-        g.width = 256;
-        g.height = 128;
-        g.wrap_v = false;
-        g.metres_v = 0.05 / g.height;
-        for (int y = 0; y < g.height; ++y) {
-            const double v = 1.0 - (y + 0.5) / g.height;
-            g.metres_u.push_back(0.1 * std::max(std::cos(PI * (v - 0.5)), 1e-3) / g.width);
-        }
+        // A curve close to the top pole.
+        const PixelGrid g = sphere_grid();
         const std::vector<float> tops(g.pixels(), 0.008f);
         const render::GrooveOptions o = options(g);
         const std::vector<render::CrackCurve> curves{
