@@ -62,7 +62,12 @@ TEST_SUITE("app") {
             CAPTURE(std::string(preset));
             REQUIRE(test::load(preset).is_auto("simulation.elements"));
             std::vector<app::StatMap> runs;
-            for (const char* seed : {"1", "2", "3"})
+            // Three seeds for bark; two for mud, whose seed spread is small (the study reference's:
+            // crack density 0.7 %, T share 0.004) against the tolerance, and whose run is 11× bark's.
+            const std::vector<std::string> seeds = std::string(preset) == "mud"
+                                                       ? std::vector<std::string>{"1", "2"}
+                                                       : std::vector<std::string>{"1", "2", "3"};
+            for (const std::string& seed : seeds)
                 runs.push_back(run_stats({"-q", "simulate", preset, "--seed", seed}));
             CHECK(runs.front().at("elements_initial") == double(io::element_count(test::load(preset)).elements));
             int compared = 0;

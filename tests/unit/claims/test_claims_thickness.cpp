@@ -170,7 +170,11 @@ TEST_SUITE("claims") {
                     test::thick_shell_stress(surface.shell, 1e9, 0.3, surface.radius, H, 1.0, 1.0, depth).largest();
                 const double e_star = spec.threshold / per_strain, s_star = e_star / (1 + e_star);
                 const double predicted = s_star / rate;
-                const auto run = test::run_split(spec, 2 * predicted, {}, {}, false);
+                // Only the first crack's time is asked: the run stops after it (the cascade that
+                // follows in a uniform film would be most of the cost).
+                fracture::FractureOptions first_only;
+                first_only.max_events = 1;
+                const auto run = test::run_split(spec, 2 * predicted, {}, first_only, false);
                 REQUIRE(!run.pattern.events.empty());
                 const double error = run.pattern.events.front().time / predicted - 1;
                 CAPTURE(error);
