@@ -18,7 +18,9 @@ namespace crackle::render {
 
 namespace {
 
-constexpr int BLOCK_ROWS = 64;
+/// Rows scanned and joined together: the halo's rows (HALO each side) are scanned twice, 9 % more
+/// work at 64 rows, 5 % at 128.
+constexpr int BLOCK_ROWS = 128;
 constexpr double PROFILE_BLEND = 4.0;
 /// Beyond its groove's extent a curve fades out of the join over this share of the extent.
 constexpr double FADE = 0.4;
@@ -223,9 +225,10 @@ std::pair<double, Profile> join_nearest(const scan::Nearest& n, double r, Profil
     double least = std::numeric_limits<double>::infinity();
     for (int k = 0; k < scan::Nearest::SLOTS; ++k) {
         if (n.curve[k] < 0) continue;
+        const double beyond_extent = smooth01((n.distance[k] / std::max(extent_of(k), 1e-12) - 1.0) / FADE);
+        if (beyond_extent >= 1.0) continue; // faded out: its profile is not needed
         profile[k] = profile_of(k);
-        fade[k] = (1.0 - smooth01((n.distance[k] / std::max(extent_of(k), 1e-12) - 1.0) / FADE))
-                  * smooth01(profile[k].share / SHALLOW);
+        fade[k] = (1.0 - beyond_extent) * smooth01(profile[k].share / SHALLOW);
         if (fade[k] > 0) least = std::min(least, double(n.distance[k]));
     }
     if (!std::isfinite(least)) return {std::numeric_limits<double>::infinity(), Profile{}};
