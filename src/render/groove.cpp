@@ -5,6 +5,7 @@
 #include "core/parallel.hpp"
 #include "core/timer.hpp"
 #include "render/fillet.hpp"
+#include "render/groove_profile.hpp"
 #include "render/groove_scan.hpp"
 #include "render/relief.hpp"
 
@@ -18,15 +19,21 @@ namespace crackle::render {
 
 namespace {
 
+using groove::curl_lift;
+using groove::kept_points;
+using groove::Profile;
+using groove::ProfileWindow;
+using groove::SHALLOW;
+using groove::smooth01;
+using groove::smooth_along;
+using groove::solve;
+
 /// Rows scanned and joined together: the halo's rows (HALO each side) are scanned twice, 9 % more
 /// work at 64 rows, 5 % at 128.
 constexpr int BLOCK_ROWS = 128;
 constexpr double PROFILE_BLEND = 4.0;
 /// Beyond its groove's extent a curve fades out of the join over this share of the extent.
 constexpr double FADE = 0.4;
-/// A groove shallower than this share of the plate height (a tapering tip) fades out of the join:
-/// its flat profile would otherwise stand in for a deeper groove beside it, out to its own reach.
-constexpr double SHALLOW = 0.2;
 /// The steepest turn of a groove's slope between neighbouring pixels anywhere on a fillet:
 /// narrower features would show as creases (the bound is 10° between neighbours).
 constexpr double TURN_PER_PIXEL = 9.0 * PI / 180.0;
@@ -36,173 +43,6 @@ constexpr double TURN_PER_PIXEL = 9.0 * PI / 180.0;
 constexpr int PROFILE_SMOOTH_PX = 1;
 /// Rows of a block's halo: the reach of the profiles' smoothing.
 constexpr int HALO = 3 * PROFILE_SMOOTH_PX;
-
-double smooth01(double x) {
-    x = std::clamp(x, 0.0, 1.0);
-    return x * x * (3 - 2 * x);
-}
-
-/// The groove's cross-section at one curve point.
-struct Profile {
-    float floor = 0;         ///< m: half the flat floor's width (half the simulated opening less the floor fillet)
-    float reach = 0;         ///< m: from the floor's edge to the plate top
-    float fillet_top = 0;    ///< m
-    float fillet_bottom = 0; ///< m
-    float alpha = 0;         ///< rad: wall slope
-    float depth = 0;         ///< m
-    float share = 0;         ///< the groove's depth as a share of the local plate height (0..1)
-    float age = 1;
-    float gap = 0; ///< m: half the simulated opening (the crack's own width: the Mask's core)
-
-    /// Drop below the plate top at distance d (m) from the curve. The lip fillet, the wall and the
-    /// floor fillet meet where a solved profile's depth is the depth its slope reaches; a blend of
-    /// profiles (where grooves meet, and the smoothing) is not solved, so the three are joined at
-    /// the depth they reach together and scaled to the profile's depth: otherwise the floor fillet
-    /// would start with a step (up to 0.7 mm on mud at 4096², along a line at a fixed distance).
-    double drop(double d, const Fillets& f) const {
-        const double x = floor + reach - d; // inward from the groove's outer edge
-        if (x <= 0) return 0;
-        if (x >= reach) return depth;
-        const double top_part = fillet_top * f.top(alpha, 1.0), wall = reach - fillet_top - fillet_bottom;
-        const double reached = top_part + wall * std::tan(alpha) + fillet_bottom * f.bottom(alpha, 1.0);
-        const double scale = reached > 0 ? depth / reached : 0.0;
-        if (x <= fillet_top) return scale * fillet_top * f.top(alpha, x / fillet_top);
-        if (x <= reach - fillet_bottom) return scale * (top_part + (x - fillet_top) * std::tan(alpha));
-        return scale * (reached - fillet_bottom * f.bottom(alpha, (reach - x) / fillet_bottom));
-    }
-};
-
-Profile lerp(const Profile& a, const Profile& b, double t) {
-    auto mix = [&](float p, float q) { return static_cast<float>((1 - t) * p + t * q); };
-    return {mix(a.floor, b.floor),
-            mix(a.reach, b.reach),
-            mix(a.fillet_top, b.fillet_top),
-            mix(a.fillet_bottom, b.fillet_bottom),
-            mix(a.alpha, b.alpha),
-            mix(a.depth, b.depth),
-            mix(a.share, b.share),
-            mix(a.age, b.age),
-            mix(a.gap, b.gap)};
-}
-
-/// The profiles of a block of rows (and the rows of its halo), one channel per parameter and one
-/// for the weight (1 where a pixel has a profile), smoothed together by three box passes of
-/// PROFILE_SMOOTH_PX each way, wrapping in u; then divided by the smoothed weight.
-class ProfileWindow {
-public:
-    ProfileWindow(int width, int rows)
-        : m_width(width), m_rows(rows), m_data(std::size_t(width) * std::size_t(rows) * CH, 0.0f) {}
-    void put(int x, int row, const Profile& p) {
-        float* c = at(x, row);
-        const std::array<float, CH> v{1.0f,    p.floor, p.reach, p.fillet_top, p.fillet_bottom,
-                                      p.alpha, p.depth, p.share, p.age,        p.gap};
-        std::copy(v.begin(), v.end(), c);
-    }
-    /// After smooth(): the pixel's profile, or none where no profile reached it.
-    std::optional<Profile> profile(int x, int row) const {
-        const float* c = at(x, row);
-        if (c[0] <= 1e-6f) return std::nullopt;
-        const float w = 1.0f / c[0];
-        return Profile{c[1] * w, c[2] * w, c[3] * w, c[4] * w, c[5] * w, c[6] * w, c[7] * w, c[8] * w, c[9] * w};
-    }
-    /// Three box passes of `radius` each way (a 6·radius + 1 tap kernel, applied at once along the
-    /// rows, wrapping, and down the columns; the window's edge rows only feed the halo, which is not
-    /// kept).
-    void smooth(int radius) {
-        std::vector<float> kernel{1.0f};
-        for (int pass = 0; pass < 3; ++pass) {
-            std::vector<float> wider(kernel.size() + 2 * std::size_t(radius), 0.0f);
-            for (std::size_t k = 0; k < kernel.size(); ++k)
-                for (std::size_t j = 0; j <= 2 * std::size_t(radius); ++j)
-                    wider[k + j] += kernel[k] / float(2 * radius + 1);
-            kernel = std::move(wider);
-        }
-        const std::size_t reach = kernel.size() / 2, n = std::size_t(m_width) * CH, rows = std::size_t(m_rows);
-        // Along the rows: each row padded by its wrapped ends.
-        std::vector<float> line(n + 2 * reach * CH);
-        for (std::size_t row = 0; row < rows; ++row) {
-            float* data = &m_data[row * n];
-            const std::size_t width = std::size_t(m_width);
-            for (std::size_t p = 0; p < width + 2 * reach; ++p) // pixel p − reach, wrapped
-                std::copy_n(data + ((p + width * reach - reach) % width) * CH, CH, &line[p * CH]);
-            std::fill_n(data, n, 0.0f);
-            for (std::size_t j = 0; j < kernel.size(); ++j) {
-                const float k = kernel[j], *in = &line[j * CH];
-                for (std::size_t i = 0; i < n; ++i)
-                    data[i] += k * in[i];
-            }
-        }
-        // Down the columns: the rows as they were before they were overwritten, in a ring.
-        const std::size_t kept = kernel.size();
-        std::vector<float> before(kept * n);
-        for (std::size_t row = 0; row < rows; ++row) {
-            float* data = &m_data[row * n];
-            std::copy_n(data, n, &before[(row % kept) * n]);
-            std::fill_n(data, n, 0.0f);
-            for (std::size_t j = 0; j < kernel.size(); ++j) {
-                const std::size_t from = row + j; // + reach − reach: row − reach + j, if within the window
-                if (from < reach || from - reach >= rows) continue;
-                const std::size_t source = from - reach;
-                const float k = kernel[j];
-                const float* in = source <= row ? &before[(source % kept) * n] : &m_data[source * n];
-                for (std::size_t i = 0; i < n; ++i)
-                    data[i] += k * in[i];
-            }
-        }
-    }
-
-private:
-    static constexpr std::size_t CH = 10;
-    float* at(int x, int row) { return &m_data[(std::size_t(row) * std::size_t(m_width) + std::size_t(x)) * CH]; }
-    const float* at(int x, int row) const {
-        return &m_data[(std::size_t(row) * std::size_t(m_width) + std::size_t(x)) * CH];
-    }
-    int m_width, m_rows;
-    std::vector<float> m_data;
-};
-
-/// The profile that reaches `depth` within `reach` with fillets `top`, `bottom`: α by bisection;
-/// a groove too narrow for its fillets or for MAX_WALL_DEG walls is widened.
-Profile solve(Profile p, const Fillets& f) {
-    const double max_alpha = MAX_WALL_DEG * PI / 180.0;
-    p.reach = std::max(p.reach, p.fillet_top + p.fillet_bottom);
-    auto depth_at = [&](double alpha) {
-        return p.fillet_top * f.top(alpha, 1.0) + p.fillet_bottom * f.bottom(alpha, 1.0)
-               + (p.reach - p.fillet_top - p.fillet_bottom) * std::tan(alpha);
-    };
-    if (p.depth <= 0) {
-        p.alpha = 0;
-        return p;
-    }
-    if (depth_at(max_alpha) < p.depth) {
-        p.alpha = static_cast<float>(max_alpha);
-        const double fillet_depth = p.fillet_top * f.top(max_alpha, 1.0) + p.fillet_bottom * f.bottom(max_alpha, 1.0);
-        p.reach = static_cast<float>(p.fillet_top + p.fillet_bottom + (p.depth - fillet_depth) / std::tan(max_alpha));
-        return p;
-    }
-    // The depth grows monotonically with α: the Illinois variant of regula falsi (Dowell & Jarratt
-    // 1971) to a depth within 1e-12 of it, in about 8 evaluations where bisection took 40.
-    double lo = 0, hi = max_alpha, f_lo = -p.depth, f_hi = depth_at(hi) - p.depth, alpha = hi;
-    for (int k = 0, side = 0; k < 100; ++k) {
-        alpha = (lo * f_hi - hi * f_lo) / (f_hi - f_lo);
-        if (!(alpha > lo && alpha < hi)) alpha = 0.5 * (lo + hi);
-        const double miss = depth_at(alpha) - p.depth;
-        if (std::abs(miss) <= 1e-12 * p.depth || hi - lo <= 1e-15) break;
-        if (miss < 0) {
-            lo = alpha, f_lo = miss;
-            if (side < 0) f_hi *= 0.5;
-            side = -1;
-        } else {
-            hi = alpha, f_hi = miss;
-            if (side > 0) f_lo *= 0.5;
-            side = 1;
-        }
-    }
-    p.alpha = static_cast<float>(alpha);
-    // The table's interpolation: the depth the profile reaches is the depth at this α.
-    p.depth = static_cast<float>(depth_at(p.alpha));
-    return p;
-}
 
 /// The curves' distances joined by a smooth minimum, −r·ln Σ exp(−dᵢ/r) (symmetric in the
 /// curves, so the join does not depend on their order, and smooth), and their profiles blended
@@ -247,50 +87,6 @@ std::pair<double, Profile> join_nearest(const scan::Nearest& n, double r, Profil
         seen += w[k];
     }
     return {std::max(least - r * (sum == 1.0 ? 0.0 : std::log(sum)), 0.0), p}; // ln 1 = 0 exactly: one curve
-}
-
-/// Two passes of a moving average over `half` (in the units of `arc`) each way along a curve.
-/// An open curve keeps its end values (the average runs over the values mirrored oddly about
-/// each end, so the chains meeting at a junction still agree there); a closed one wraps.
-std::vector<double> smooth_along(const std::vector<double>& arc, const std::vector<double>& values, double half,
-                                 bool closed) {
-    const std::size_t n = values.size();
-    if (n < 3 || half <= 0) return values;
-    const double length = arc.back(), margin = 2 * half;
-    std::vector<double> s, v;
-    for (std::size_t k = n - 1; k-- > 1;) { // before the start, in order of arc length
-        const std::size_t j = closed ? n - 1 - k : k;
-        if (closed && length - arc[j] <= margin) s.push_back(arc[j] - length), v.push_back(values[j]);
-        if (!closed && arc[j] <= margin) s.push_back(-arc[j]), v.push_back(2 * values[0] - values[j]);
-    }
-    const std::size_t first = s.size();
-    s.insert(s.end(), arc.begin(), arc.end());
-    v.insert(v.end(), values.begin(), values.end());
-    for (std::size_t k = n - 1; k-- > 1;) { // after the end
-        const std::size_t j = closed ? n - 1 - k : k;
-        if (closed && arc[j] <= margin) s.push_back(length + arc[j]), v.push_back(values[j]);
-        if (!closed && length - arc[j] <= margin)
-            s.push_back(2 * length - arc[j]), v.push_back(2 * values[n - 1] - values[j]);
-    }
-    const std::size_t m = s.size();
-    for (int pass = 0; pass < 2; ++pass) {
-        std::vector<double> sum(m + 1, 0.0), mean(m);
-        for (std::size_t i = 0; i < m; ++i)
-            sum[i + 1] = sum[i] + v[i];
-        for (std::size_t i = 0, lo = 0, hi = 0; i < m; ++i) {
-            while (s[i] - s[lo] > half)
-                ++lo;
-            hi = std::max(hi, i);
-            while (hi + 1 < m && s[hi + 1] - s[i] <= half)
-                ++hi;
-            mean[i] = (sum[hi + 1] - sum[lo]) / double(hi + 1 - lo);
-        }
-        v = std::move(mean);
-    }
-    std::vector<double> out(v.begin() + static_cast<std::ptrdiff_t>(first),
-                            v.begin() + static_cast<std::ptrdiff_t>(first + n));
-    if (!closed) out.front() = values.front(), out.back() = values.back();
-    return out;
 }
 
 /// A block of rows' joined distances and smoothed profiles (over the block and its halo).
@@ -344,79 +140,6 @@ Joined join_block(const PixelGrid& g, const std::vector<scan::Segment>& segs, co
         }
     j.window.smooth(PROFILE_SMOOTH_PX);
     return j;
-}
-
-/// Curl lifts the rim as the post stage does (Fig. 4.11): by curl · (1 − d/reach)² (layer
-/// heights) from the plate's edge (the floor's), concave, highest at the lip; the distance from
-/// the floor's edge is eased over the floor fillet, so the lift meets the floor without a crease.
-double curl_lift(double d, const Profile& p, const GrooveOptions& o) {
-    const double fb = std::max(double(p.fillet_bottom), 1e-12);
-    double from_lip = std::max(0.0, d - p.floor);
-    from_lip = from_lip < fb ? from_lip * from_lip / (2 * fb) : from_lip - 0.5 * fb;
-    return o.curl * sqr(std::max(0.0, 1.0 - from_lip / o.curl_reach));
-}
-
-/// The points of a curve the scan keeps (Douglas & Peucker 1973): curve smoothing and the wander
-/// leave segments far below a pixel, and each costs a scan of the whole reach. A point is dropped
-/// where the chord between its kept neighbours passes within `tolerance` pixels of it and the
-/// profile interpolated along the chord (at the point's projection, as the scan interpolates) is
-/// within `tolerance` pixels of its own, in height: shifts across the wall times its slope, depths in
-/// pixels, the wall's angle by the height it moves (d tan α = dα / cos² α), the share by the depth it changes, the age
-/// at 1/200 per `tolerance`; where the groove is shallow enough to fade out of the join, every point is kept.
-std::vector<std::size_t> kept_points(const std::vector<Vec2>& at, const std::vector<Profile>& profile, double tolerance,
-                                     double pixel, double top) {
-    const std::size_t n = at.size();
-    std::vector<std::size_t> kept;
-    if (n < 3 || tolerance <= 0) {
-        for (std::size_t i = 0; i < n; ++i)
-            kept.push_back(i);
-        return kept;
-    }
-    auto extent = [&](std::size_t i) { return double(profile[i].floor + profile[i].reach); };
-    auto error = [&](std::size_t i, std::size_t j, std::size_t m) {
-        const Vec2 chord = at[j] - at[i];
-        const double l2 = chord.squaredNorm();
-        const double t = l2 > 0 ? std::clamp((at[m] - at[i]).dot(chord) / l2, 0.0, 1.0) : 0.0;
-        const Profile& p = profile[m];
-        const Profile q = lerp(profile[i], profile[j], t);
-        // A wall of slope tan α turns a shift across it into α's tangent times that in height.
-        const double reach = std::max(p.reach, q.reach) / pixel, wall = std::max(1.0, std::tan(double(p.alpha)));
-        return std::max(
-            {wall * (at[i] + t * chord - at[m]).norm(), wall * std::abs(p.floor - q.floor) / pixel,
-             wall * std::abs(p.reach - q.reach) / pixel, wall * std::abs(p.fillet_top - q.fillet_top) / pixel,
-             wall * std::abs(p.fillet_bottom - q.fillet_bottom) / pixel, std::abs(p.depth - q.depth) / pixel,
-             std::abs(p.gap - q.gap) / pixel, std::abs(p.alpha - q.alpha) * reach * (1 + wall * wall),
-             std::abs(p.share - q.share) * top / pixel, std::abs(p.age - q.age) * 200 * tolerance,
-             // a segment's extent (where its curve fades out of the join) is its ends' larger
-             std::abs(std::max(extent(i), extent(j)) - extent(m)) / pixel});
-    };
-    // Where a groove fades out of the join (a tapering tip), its share moves the joined distance by
-    // up to r / fade: those points are all kept, and the runs between them simplified.
-    std::vector<std::uint8_t> keep(n, 0);
-    keep.front() = keep.back() = 1;
-    for (std::size_t i = 0; i < n; ++i)
-        keep[i] = keep[i] || profile[i].share < SHALLOW;
-    std::vector<std::pair<std::size_t, std::size_t>> spans;
-    for (std::size_t i = 0, last = 0; i < n; ++i)
-        if (i > 0 && keep[i]) {
-            if (i - last > 1) spans.emplace_back(last, i);
-            last = i;
-        }
-    while (!spans.empty()) {
-        const auto [i, j] = spans.back();
-        spans.pop_back();
-        double worst = 0;
-        std::size_t split = i;
-        for (std::size_t m = i + 1; m < j; ++m)
-            if (const double e = error(i, j, m); e > worst) worst = e, split = m;
-        if (worst <= tolerance) continue;
-        keep[split] = 1;
-        spans.emplace_back(i, split);
-        spans.emplace_back(split, j);
-    }
-    for (std::size_t i = 0; i < n; ++i)
-        if (keep[i]) kept.push_back(i);
-    return kept;
 }
 
 } // namespace
