@@ -53,22 +53,6 @@ FilletTable::FilletTable(double exponent, double lift) {
     }
 }
 
-double FilletTable::operator()(double alpha, double xi) const {
-    const double fa = std::clamp(alpha / (MAX_WALL_DEG * PI / 180.0), 0.0, 1.0) * ALPHA_STEPS;
-    const double fx = std::clamp(xi, 0.0, 1.0) * XI_STEPS;
-    const int a = std::min(static_cast<int>(fa), ALPHA_STEPS - 1), x = std::min(static_cast<int>(fx), XI_STEPS - 1);
-    const double sa = fa - a, sx = fx - x;
-    // Cubic Hermite in ξ with the exact slopes (dJ/dξ = tan(α Sᵉ)): the groove's slope is
-    // continuous between the table's nodes (linear interpolation would band the normals).
-    const double h00 = (2 * sx - 3) * sx * sx + 1, h10 = ((sx - 2) * sx + 1) * sx, h01 = (3 - 2 * sx) * sx * sx,
-                 h11 = (sx - 1) * sx * sx, step = 1.0 / XI_STEPS;
-    auto at = [&](int row) {
-        return h00 * m_table[index(row, x)] + h10 * step * m_slope[index(row, x)] + h01 * m_table[index(row, x + 1)]
-               + h11 * step * m_slope[index(row, x + 1)];
-    };
-    return (1 - sa) * at(a) + sa * at(a + 1);
-}
-
 double Fillets::shown(double alpha) const {
     return std::atan(lift * std::tan(alpha));
 }
