@@ -50,15 +50,15 @@ constexpr int HALO = 3 * PROFILE_SMOOTH_PX;
 /// by about r, and the ridge between two grooves has a rounded crest, with no crease along the
 /// line of equal distance. A curve nearer than the others by several r keeps its own distance
 /// and profile.
-template <class ProfileOf, class ExtentOf>
-std::pair<double, Profile> join_nearest(const scan::Nearest& n, double r, ProfileOf&& profile_of,
+template <class ShareOf, class ProfileOf, class ExtentOf>
+std::pair<double, Profile> join_nearest(const scan::Nearest& n, double r, ShareOf&& share_of, ProfileOf&& profile_of,
                                         ExtentOf&& extent_of) {
     // Each curve's terms fade out beyond its groove's extent (over FADE of it), so a curve
     // leaves the join smoothly where its scan ends and never bends its own groove. The profiles blend over a longer
     // distance than the distances join (PROFILE_BLEND × r): a later, shallower crack's floor meets the deeper one it
-    // ends on by a gentle step.
+    // ends on by a gentle step. (A curve's whole profile is interpolated only where it is blended:
+    // the fade needs its share alone.)
     std::array<double, scan::Nearest::SLOTS> fade{}, w{};
-    std::array<Profile, scan::Nearest::SLOTS> profile;
     // The nearest of the curves that take part: a faded-out curve nearer than them must not be
     // the reference of the exponentials (their terms would underflow beyond ~28 r, and the
     // grooves vanish along the edge of its scan).
@@ -66,9 +66,8 @@ std::pair<double, Profile> join_nearest(const scan::Nearest& n, double r, Profil
     for (int k = 0; k < scan::Nearest::SLOTS; ++k) {
         if (n.curve[k] < 0) continue;
         const double beyond_extent = smooth01((n.distance[k] / std::max(extent_of(k), 1e-12) - 1.0) / FADE);
-        if (beyond_extent >= 1.0) continue; // faded out: its profile is not needed
-        profile[k] = profile_of(k);
-        fade[k] = (1.0 - beyond_extent) * smooth01(profile[k].share / SHALLOW);
+        if (beyond_extent >= 1.0) continue; // faded out
+        fade[k] = (1.0 - beyond_extent) * smooth01(share_of(k) / SHALLOW);
         if (fade[k] > 0) least = std::min(least, double(n.distance[k]));
     }
     if (!std::isfinite(least)) return {std::numeric_limits<double>::infinity(), Profile{}};
@@ -83,7 +82,7 @@ std::pair<double, Profile> join_nearest(const scan::Nearest& n, double r, Profil
     double seen = 0;
     for (int k = 0; k < scan::Nearest::SLOTS; ++k) {
         if (w[k] <= 0) continue;
-        p = seen == 0 ? profile[k] : lerp(p, profile[k], w[k] / (seen + w[k]));
+        p = seen == 0 ? profile_of(k) : lerp(p, profile_of(k), w[k] / (seen + w[k]));
         seen += w[k];
     }
     return {std::max(least - r * (sum == 1.0 ? 0.0 : std::log(sum)), 0.0), p}; // ln 1 = 0 exactly: one curve
@@ -129,6 +128,11 @@ Joined join_block(const PixelGrid& g, const std::vector<scan::Segment>& segs, co
             if (n.empty()) continue;
             const auto [d, p] = join_nearest(
                 n, o.join_radius,
+                [&](int slot) { // as lerp() interpolates the share
+                    const SegmentEnds& e = ends[n.segment[static_cast<std::size_t>(slot)]];
+                    const double t = n.t[static_cast<std::size_t>(slot)];
+                    return static_cast<float>((1 - t) * e.a.share + t * e.b.share);
+                },
                 [&](int slot) {
                     const SegmentEnds& e = ends[n.segment[static_cast<std::size_t>(slot)]];
                     return lerp(e.a, e.b, n.t[static_cast<std::size_t>(slot)]);

@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstddef>
 #include <optional>
 #include <vector>
@@ -45,11 +46,12 @@ struct Profile {
         const double x = floor + reach - d; // inward from the groove's outer edge
         if (x <= 0) return 0;
         if (x >= reach) return depth;
+        const float slope = std::tan(alpha); // (float, as before: the maps stay the same)
         const double top_part = fillet_top * f.top(alpha, 1.0), wall = reach - fillet_top - fillet_bottom;
-        const double reached = top_part + wall * std::tan(alpha) + fillet_bottom * f.bottom(alpha, 1.0);
+        const double reached = top_part + wall * slope + fillet_bottom * f.bottom(alpha, 1.0);
         const double scale = reached > 0 ? depth / reached : 0.0;
         if (x <= fillet_top) return scale * fillet_top * f.top(alpha, x / fillet_top);
-        if (x <= reach - fillet_bottom) return scale * (top_part + (x - fillet_top) * std::tan(alpha));
+        if (x <= reach - fillet_bottom) return scale * (top_part + (x - fillet_top) * slope);
         return scale * (reached - fillet_bottom * f.bottom(alpha, (reach - x) / fillet_bottom));
     }
 };
