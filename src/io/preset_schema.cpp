@@ -193,7 +193,9 @@ std::vector<KeySpec> build_schema() {
     s.push_back(integer("bake", "size_v", 0, "px", 0, 16384,
                         "Pixels along v (rows) when set; 0 = follow the surface's shape. `--size 2048x512` sets "
                         "both."));
-    s.push_back(integer("bake", "samples", 4, "", 1, 16, "Anti-aliasing samples per pixel (MSAA); 1 = none."));
+    s.push_back(integer("bake", "samples", 4, "", 1, 16,
+                        "Anti-aliasing samples per pixel (MSAA) of the raster grooves (bake.grooves = raster); 1 = "
+                        "none. The curves' grooves are anti-aliased by their own profile and ignore it."));
     s.push_back(
         boolean("bake", "exr", false, "Also write the displacement as a 32-bit float OpenEXR file, in metres."));
     s.push_back(

@@ -22,7 +22,10 @@ TextureSet bake(const post::PieceMesh& pieces, const BakeOptions& o, GlContext& 
     RasterOptions raster;
     raster.width = o.width;
     raster.height = o.height;
-    raster.samples = o.samples;
+    // The curves' grooves are cut analytically and read the raster's heights only on the plates,
+    // away from their edges: multisampling them changed the mud's 4096² height by at most 2.7 µm
+    // (99.9 % of pixels by one 16-bit step or none) and cost 0.3 s. Only the raster grooves use it.
+    raster.samples = o.relief.curves ? 1 : o.samples;
     raster.tile = o.tile;
     raster.crack_age = o.crack_age;
     raster.seed = o.seed;

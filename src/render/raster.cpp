@@ -2,6 +2,7 @@
 
 #include "core/error.hpp"
 #include "core/log.hpp"
+#include "core/parallel.hpp"
 #include "core/progress.hpp"
 #include "core/timer.hpp"
 #include "render/gl.hpp"
@@ -332,18 +333,20 @@ RasterLayers rasterize(const post::PieceMesh& pieces, const RasterOptions& o, Gl
             readback += read_timer.seconds();
             progress.update(ty * tiles_x + tx + 1);
         }
-    for (std::size_t i = 0; i < px; ++i) {
-        const float label = layers[4 * i];
-        covered[i] = label > -1.5f;
-        r.label[i] = label > -0.5f ? static_cast<std::int32_t>(std::lround(label)) : -1;
-        r.crack[i] = label < -0.5f || layers[4 * i + 1] > 0.5f;
-        r.lip[i] = layers[4 * i + 1] > 1.5f;
-        if (r.crack[i]) r.label[i] = -1;
-        r.weight[i] = layers[4 * i + 2];
-        r.age[i] = layers[4 * i + 3];
-        for (std::size_t c = 0; c < 3; ++c)
-            r.id[3 * i + c] = rgba[4 * i + c];
-    }
+    parallel_rows(o.height, [&](int y) {
+        for (std::size_t i = std::size_t(y) * std::size_t(o.width), end = i + std::size_t(o.width); i < end; ++i) {
+            const float label = layers[4 * i];
+            covered[i] = label > -1.5f;
+            r.label[i] = label > -0.5f ? static_cast<std::int32_t>(std::lround(label)) : -1;
+            r.crack[i] = label < -0.5f || layers[4 * i + 1] > 0.5f;
+            r.lip[i] = layers[4 * i + 1] > 1.5f;
+            if (r.crack[i]) r.label[i] = -1;
+            r.weight[i] = layers[4 * i + 2];
+            r.age[i] = layers[4 * i + 3];
+            for (std::size_t c = 0; c < 3; ++c)
+                r.id[3 * i + c] = rgba[4 * i + c];
+        }
+    });
     if (!pieces.periodic) fill_pole_rows(r, covered);
     r.readback_seconds = readback;
     r.render_seconds = render_timer.seconds() - readback;
