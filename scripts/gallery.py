@@ -88,6 +88,18 @@ def main(work, out):
             for c in crops:
                 folder = c[: -len("-2048.jpg")]
                 f.write(f"| `{folder}` | ![{folder}]({folder}.jpg) | ![{folder} at 2048](crops/{c}) |\n")
+        renders = sorted(c for c in os.listdir(os.path.join(out, "cycles")) if c.endswith(".jpg")) \
+            if os.path.isdir(os.path.join(out, "cycles")) else []
+        if renders:
+            f.write("\n## Rendered in Blender Cycles\n\nThe maps baked at 2048² on a plane of the tile's size, displaced "
+                    "by the height map at the report's `displacement_scale_m`, lit by a low sun from the upper left: "
+                    "the middle 35 % of the tile, the raster grooves (the bake before the crack curves) on the "
+                    "left, the crack-curve grooves on the right. Regenerate with `scripts/gallery_cycles` "
+                    "(mud and bark by default; needs Blender), then `scripts/gallery`.\n\n"
+                    "| preset | raster grooves (left), crack curves (right) |\n|---|---|\n")
+            for c in renders:
+                folder = c[: -len(".jpg")]
+                f.write(f"| `{folder}` | ![{folder} in Cycles](cycles/{c}) |\n")
 
 
 if __name__ == "__main__":
