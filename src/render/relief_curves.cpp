@@ -96,25 +96,30 @@ void relabel_cracks(RasterLayers& layers, const Relief& relief) {
     const PixelGrid& g = layers.grid;
     const std::size_t px = g.pixels();
     std::vector<std::uint8_t> crack(px), source(px);
-    for (std::size_t i = 0; i < px; ++i) {
-        crack[i] = relief.coverage[i] >= 0.5f || relief.groove[i] >= 0.5f;
-        source[i] = !crack[i] && layers.label[i] >= 0;
-    }
+    parallel_rows(g.height, [&](int y) {
+        for (std::size_t i = g.index(0, y), end = i + std::size_t(g.width); i < end; ++i) {
+            crack[i] = relief.coverage[i] >= 0.5f || relief.groove[i] >= 0.5f;
+            source[i] = !crack[i] && layers.label[i] >= 0;
+        }
+    });
     if (std::find(source.begin(), source.end(), 1) == source.end()) {
         layers.crack = std::move(crack);
         return;
     }
     const DistanceField near = distance_transform(g, source, true);
-    for (std::size_t i = 0; i < px; ++i) {
-        if (crack[i]) {
-            layers.label[i] = -1;
-        } else if (layers.label[i] < 0) {
-            const std::size_t j = near.nearest[i];
-            layers.label[i] = layers.label[j];
-            for (std::size_t c = 0; c < 3; ++c)
-                layers.id[3 * i + c] = layers.id[3 * j + c];
+    // (A source pixel keeps its label and colour: the rows can be relabelled in any order.)
+    parallel_rows(g.height, [&](int y) {
+        for (std::size_t i = g.index(0, y), end = i + std::size_t(g.width); i < end; ++i) {
+            if (crack[i]) {
+                layers.label[i] = -1;
+            } else if (layers.label[i] < 0) {
+                const std::size_t j = near.nearest[i];
+                layers.label[i] = layers.label[j];
+                for (std::size_t c = 0; c < 3; ++c)
+                    layers.id[3 * i + c] = layers.id[3 * j + c];
+            }
         }
-    }
+    });
     layers.crack = std::move(crack);
 }
 
