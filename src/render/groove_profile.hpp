@@ -104,8 +104,8 @@ private:
     std::vector<float> m_data;
 };
 
-/// The profile that reaches `depth` within `reach` with fillets `top`, `bottom`: α by bisection;
-/// a groove too narrow for its fillets or for MAX_WALL_DEG walls is widened.
+/// The profile that reaches `depth` within `reach` with fillets `top`, `bottom`: α by regula falsi
+/// (Illinois); a groove too narrow for its fillets or for MAX_WALL_DEG walls is widened.
 Profile solve(Profile p, const Fillets& f);
 
 /// Two passes of a moving average over `half` (in the units of `arc`) each way along a curve.
