@@ -15,6 +15,17 @@ Vec3 SurfaceMesh::corner_position(FaceId f, int k) const {
     return positions[face.v[static_cast<size_t>(k)]] + o.x() * period_vectors[0] + o.y() * period_vectors[1];
 }
 
+Vec3 SurfaceMesh::nearest_step(const Vec3& from, const Vec3& to) const {
+    Vec3 best = to - from;
+    if (!periodic) return best;
+    for (int i = -1; i <= 1; ++i)
+        for (int j = -1; j <= 1; ++j) {
+            const Vec3 d = to + i * period_vectors[0] + j * period_vectors[1] - from;
+            if (d.squaredNorm() < best.squaredNorm()) best = d;
+        }
+    return best;
+}
+
 std::array<Vec3, 3> SurfaceMesh::face_positions(FaceId f) const {
     return {corner_position(f, 0), corner_position(f, 1), corner_position(f, 2)};
 }

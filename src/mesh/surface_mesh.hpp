@@ -43,6 +43,9 @@ public:
 
     // === Geometry
     Vec3 corner_position(FaceId f, int k) const;
+    /// to − from over the periodic images of `to` (t = 0 positions): the short way across a seam,
+    /// where two neighbours' own positions lie a period apart. Plain to − from on other meshes.
+    Vec3 nearest_step(const Vec3& from, const Vec3& to) const;
     std::array<Vec3, 3> face_positions(FaceId f) const;
     /// Unrolled domain coordinates of a corner (periodic meshes only).
     Vec2 corner_domain(FaceId f, int k) const;

@@ -165,6 +165,18 @@ Vec3 FemModel::bottom_position(VertexId v) const {
     return m_growth.position(m_mesh.positions[v], m_time);
 }
 
+Vec3 FemModel::bottom_step(VertexId from, VertexId to) const {
+    const Vec3 a = bottom_position(from), b = bottom_position(to);
+    Vec3 best = b - a;
+    if (!m_mesh.periodic) return best;
+    for (int i = -1; i <= 1; ++i)
+        for (int j = -1; j <= 1; ++j) {
+            const Vec3 d = b + shift(Vec2i(i, j), m_time) - a;
+            if (d.squaredNorm() < best.squaredNorm()) best = d;
+        }
+    return best;
+}
+
 wedge::Nodes FemModel::current_nodes(FaceId f) const {
     const mesh::Face& face = m_mesh.faces[f];
     wedge::Nodes p;

@@ -149,6 +149,9 @@ public:
     /// The amplitude of through-thickness mode k ∈ [2, p] at a vertex (m; 0 at rest).
     Vec3 mode_amplitude(mesh::VertexId v, int k) const { return m_x.values[slot(mesh::ix(v), k - 1)]; }
     Vec3 bottom_position(mesh::VertexId v) const;
+    /// The shortest vector from one node's bottom to another's now, over periodic images: two
+    /// neighbours on either side of a seam lie a period apart in their own positions.
+    Vec3 bottom_step(mesh::VertexId from, mesh::VertexId to) const;
     /// Current node positions of an element (periodic shifts applied).
     wedge::Nodes current_nodes(mesh::FaceId f) const;
     /// Reference shape Q_e at the current time.

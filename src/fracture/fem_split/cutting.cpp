@@ -146,7 +146,7 @@ Splitter::Start Splitter::start_fracture(std::size_t v, double ratio, Event& ev)
             // The nucleus (nonlocal.hpp): a crack starts as long as the stress was averaged over;
             // until each arm is half that long its tips extend without the energy test.
             if (m_nonlocal) {
-                const double arm = (m_model.mesh().positions[vertex_id(e)] - p0).norm();
+                const double arm = m_model.mesh().nearest_step(p0, m_model.mesh().positions[vertex_id(e)]).norm();
                 const double rest = 0.5 * nucleus_length(v) - arm;
                 if (rest > 0) m_nucleus[e] = rest;
             }
@@ -215,9 +215,11 @@ bool Splitter::extend_tip(std::size_t tip, Event& ev) {
             refresh_after(touched, relax_near(touched));
         return false;
     }
-    const Vec3 a0 = m_model.bottom_position(vertex_id(tip)), b0 = m_model.bottom_position(vertex_id(end.vertex));
-    const double area = (b0 - a0).norm() * 0.5
-                        * (m_model.vertex_thickness(vertex_id(tip)) + m_model.vertex_thickness(vertex_id(end.vertex)));
+    // The step measured the short way: across a periodic seam the two nodes' own positions lie a
+    // period apart, which made the new wall ~50 steps long and arrested every tip at the seams.
+    const double step = m_model.bottom_step(vertex_id(tip), vertex_id(end.vertex)).norm();
+    const double area =
+        step * 0.5 * (m_model.vertex_thickness(vertex_id(tip)) + m_model.vertex_thickness(vertex_id(end.vertex)));
     const bool opened = open_edges({{tip, end.vertex}}, touched);
     m_stats.topology_seconds += timer.seconds();
     if (!opened) {
@@ -268,7 +270,6 @@ bool Splitter::extend_tip(std::size_t tip, Event& ev) {
     if (!flipped.empty()) refresh_after(flipped, relax_near(flipped));
     if (is_tip(m_model, end.vertex)) {
         m_tips.push_back(end.vertex);
-        const double step = (b0 - a0).norm();
         if (nucleus - step > 0) m_nucleus[end.vertex] = nucleus - step;
         smooth_near(end.vertex);
     }

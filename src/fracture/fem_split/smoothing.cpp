@@ -119,7 +119,7 @@ void Splitter::smooth_near(std::size_t tip) {
             for (std::uint32_t f : m_model.incident_faces(u))
                 for (VertexId w : m.faces[face_id(f)].v) {
                     const std::size_t x = ix(w);
-                    if ((m.positions[w] - centre).norm() > m_smoothing) continue;
+                    if (m.nearest_step(centre, m.positions[w]).norm() > m_smoothing) continue;
                     if (std::find(near.begin(), near.end(), x) != near.end()) continue;
                     near.push_back(x);
                     next.push_back(x);

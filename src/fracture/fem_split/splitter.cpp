@@ -87,7 +87,7 @@ void Splitter::check(const char* after) const {
 bool Splitter::excluded(std::size_t v) const {
     const Vec3& p = m_model.mesh().positions[vertex_id(v)];
     for (const Vec3& z : m_zones)
-        if ((p - z).norm() < m_exclusion) return true;
+        if (m_model.mesh().nearest_step(z, p).norm() < m_exclusion) return true;
     return false;
 }
 

@@ -524,8 +524,8 @@ TEST_SUITE("claims") {
         CHECK(excess.back() < 0.2);
     }
 
-    TEST_CASE("claims curvature: a trunk's fissures, events and first fracture approach the plane's as its radius "
-              "grows") {
+    TEST_CASE("claims curvature: a trunk's fissures and events match the plane's from 4 layer thicknesses of radius, "
+              "its first fracture is later by Lame's factor") {
         // Trunks and planes of circumference 0.3, 0.6, 1.2 m (5 cm tall) cracked with the
         // bark material, two seeds each. What is compared: the time of the first fracture, the
         // fissures per metre of circumference, new fractures per area and crack length per area.
@@ -553,26 +553,29 @@ TEST_SUITE("claims") {
             const double R = C / TWO_PI;
             const double lame = test::lame_hoop_stress(1e9, 0.3, R, 0.015, TOP_GAUSS, 0.004, 0.0005);
             const double thin = 1e9 / (1 - 0.09) * (0.004 + 0.3 * 0.0005);
-            // Asserted below: within 20 % at C = 1.2 m, and closer there than at C = 0.3 m.
-            const std::string converge = C == circumference.back() ? "|1 - x| < 0.2, < at C = 0.3 m" : "recorded";
+            // Asserted below: within 15 % at every radius (R = 4.3 to 17 layer thicknesses). Until
+            // 2026-12-07 the trunk had 0.68× the plane's fissures at C = 0.3 m, 0.87× at 1.2 m: tips
+            // stopped at the seams (test_seams.cpp), which the plane has two of across its fissures'
+            // paths and the trunk one; with them crossed, no dependence on the radius is left
+            // that two seeds can resolve (0.93-1.04).
+            const std::string converge = "|1 - x| < 0.15";
             const std::string at = ", C = " + std::to_string(C).substr(0, 3) + " m (cylinder / plane, 2 seeds)";
             test::record_claim("curvature", "first fracture later on a trunk by Lame's factor",
                                "(first fracture time ratio - 1) / (Lame stress ratio - 1)" + at,
                                (first_ratio.back() - 1) / (thin / lame - 1), "in [0.8, 1.5]");
-            test::record_claim("curvature", "fissures approach the plane's", "fissure count ratio" + at,
+            test::record_claim("curvature", "fissures match the plane's", "fissure count ratio" + at,
                                fissure_ratio.back(), converge);
-            test::record_claim("curvature", "new fractures approach the plane's", "new fracture count ratio" + at,
+            test::record_claim("curvature", "new fractures match the plane's", "new fracture count ratio" + at,
                                split_ratio.back(), converge);
-            test::record_claim("curvature", "crack density approaches the plane's", "rho_c ratio" + at,
-                               rho_ratio.back(), converge);
+            test::record_claim("curvature", "crack density matches the plane's", "rho_c ratio" + at, rho_ratio.back(),
+                               converge);
             test::record_claim("curvature", "arrests approach the plane's (slowly)", "arrest count ratio" + at,
                                arrest_ratio.back(), "recorded");
             CHECK((first_ratio.back() - 1) / (thin / lame - 1) > 0.8);
             CHECK((first_ratio.back() - 1) / (thin / lame - 1) < 1.5);
         }
-        for (const std::vector<double>* r : {&fissure_ratio, &split_ratio, &rho_ratio}) {
-            CHECK(std::abs(r->back() - 1) < 0.2);
-            CHECK(std::abs(r->back() - 1) < std::abs(r->front() - 1));
-        }
+        for (const std::vector<double>* r : {&fissure_ratio, &split_ratio, &rho_ratio})
+            for (double x : *r)
+                CHECK(std::abs(x - 1) < 0.15);
     }
 }
