@@ -120,9 +120,10 @@ std::vector<KeySpec> build_schema() {
         "the minimum."));
     s.push_back(number("simulation", "elements_per_h2", 2.0, "", 0.1, 100.0,
                        "Elements per square of the thinnest layer thickness when simulation.elements = \"auto\". "
-                       "2 = the cheapest density at which bark and fruit come within the texture tolerance of their "
-                       "converged patterns; mud's T-junctions need 4 (docs/benchmarks.md). Lower = faster and "
-                       "coarser (fewer, straighter cracks), higher = slower and closer to converged."));
+                       "2 = the cheapest density at which fruit comes within the texture tolerance of its "
+                       "converged pattern; mud's T-junctions need 4, bark's crack density 8 (docs/benchmarks.md). "
+                       "Lower = faster and coarser (fewer, straighter cracks), higher = slower and closer to "
+                       "converged."));
     s.push_back(number("simulation", "duration", 1.0, "time", 0.0, 1000.0,
                        "Simulated time. Growth and shrinkage rates are per unit of it; longer = more, wider cracks.",
                        true));

@@ -69,17 +69,32 @@ TEST_SUITE("app") {
                                                        : std::vector<std::string>{"1", "2", "3"};
             for (const std::string& seed : seeds)
                 runs.push_back(run_stats({"-q", "simulate", preset, "--seed", seed}));
-            CHECK(runs.front().at("elements_initial") == double(io::element_count(test::load(preset)).elements));
+            // A periodic mesh has an even number of triangles: 8889 asked gives 8888.
+            CHECK(std::abs(runs.front().at("elements_initial") - double(io::element_count(test::load(preset)).elements))
+                  <= 1);
             int compared = 0;
+            const std::size_t reference_seeds = app::embedded_reference().at(preset).seeds.size();
             for (const app::StatError& e : errors(runs, preset)) {
                 CAPTURE(e.key);
                 CAPTURE(e.value);
                 CAPTURE(e.mean);
                 CAPTURE(e.error);
-                if (!e.comparable) continue; // bark's fragment area (a few pieces a run)
+                if (!e.comparable) continue;
                 ++compared;
-                // mud at 4 per h²: T −0.034 (at 2 per h² it was −0.081, outside; docs/benchmarks.md).
-                CHECK(e.within_tolerance);
+                // Not shown outside the tolerance: outside it by more than two standard errors of
+                // the difference of the two seed means (the refinement study's "not converged",
+                // docs/accuracy.md). Mud's seeds agree (crack density 0.4 % per seed): its bound is
+                // the tolerance (T share −0.034 at 4 per h²; at 2 per h² −0.081, outside). Bark's
+                // tile has about 12 fissures and its seeds scatter by 7 % in crack density, 20 % in
+                // fragment area: three seeds against the reference's eight resolve its density to
+                // ±9 %, so this cannot tell bark's old 2 per h² (+12 %) from its 8 (+2 % in the
+                // refinement study, 4 seeds a count): that decision rests on the study; a gross
+                // miss fails here.
+                const double se =
+                    e.spread
+                    * std::sqrt(1.0 / double(runs.size()) + 1.0 / double(std::max<std::size_t>(reference_seeds, 1)));
+                CAPTURE(se);
+                CHECK(std::abs(e.error) <= app::find_tolerance(e.key)->value + 2 * se);
             }
             CHECK(compared >= 2);
         }

@@ -39,10 +39,14 @@ TEST_SUITE("io") {
         // A mesh that follows the thickness (1 → 4 cm): the area integral of 1/h², 1/(t₀·t₁) on the ramp.
         CHECK(io::element_count(load("mud/thickness-gradient", {"simulation.elements=auto"})).elements
               == std::llround(q * 0.25 / (0.01 * 0.04)));
-        // The density is the preset's: 2 per h² by default (bark), 4 for mud's T-junctions; the
-        // reason names it.
+        // The density is the preset's: 2 per h² by default, 4 for mud's T-junctions, 8 for bark's
+        // crack density, 16 for the Siberian elm's T share, 4 for the Table 5.2 base; the reason
+        // names it.
         CHECK(q == 4.0);
-        CHECK(load("bark").number("simulation.elements_per_h2") == 2.0);
+        CHECK(load("bark").number("simulation.elements_per_h2") == 8.0);
+        CHECK(load("bark/siberian-elm").number("simulation.elements_per_h2") == 16.0);
+        CHECK(load("bark/table-5-2-base").number("simulation.elements_per_h2") == 4.0);
+        CHECK(load("fruit").number("simulation.elements_per_h2") == 2.0);
         CHECK(c.reason.find("4 elements per h²") != std::string::npos);
         CHECK(io::element_count(load("mud", {"simulation.elements=auto", "simulation.elements_per_h2=1"})).elements
               == std::llround(1.0 * 0.25 / (0.01 * 0.01)));
