@@ -120,8 +120,9 @@ std::vector<KeySpec> build_schema() {
         "the minimum."));
     s.push_back(number("simulation", "elements_per_h2", 2.0, "", 0.1, 100.0,
                        "Elements per square of the thinnest layer thickness when simulation.elements = \"auto\". "
-                       "2 = the cheapest density at which fruit comes within the texture tolerance of its "
-                       "converged pattern; mud's T-junctions need 4, bark's crack density 8 (docs/benchmarks.md). "
+                       "2 = the default for a preset that has not measured its own; the shipped presets set what "
+                       "their converged patterns need: mud's and fruit's T-junctions 4, bark's crack density and "
+                       "the isogonic sphere's T-junctions 8, the Siberian elm's 16 (docs/benchmarks.md). "
                        "Lower = faster and coarser (fewer, straighter cracks), higher = slower and closer to "
                        "converged."));
     s.push_back(number("simulation", "duration", 1.0, "time", 0.0, 1000.0,
