@@ -472,10 +472,11 @@ void apply_pattern_scale(Preset& p) {
 
 double pattern_spacing_per_thickness(const std::string& surface_kind) {
     // Crack spacing per layer thickness, the mean over seeds 1 and 2 at three or four thicknesses
-    // of each surface's default preset (docs/presets-library.md, "Pattern scale").
-    constexpr double PLANE = 2.65;    // mud, 1–3 cm: 2.56–2.82
-    constexpr double CYLINDER = 1.93; // bark, 1–3 cm: 1.78–2.12
-    constexpr double SPHERE = 3.7;    // sphere/isogonic, 4–8 mm on a 5 cm radius: 3.52–3.95
+    // of each surface's default preset at its auto resolution (docs/presets-library.md, "Pattern
+    // scale"; re-measured 2026-12-07 after the seam fix and the presets' converged densities).
+    constexpr double PLANE = 2.73;    // mud, 1–3 cm: 2.62–2.80
+    constexpr double CYLINDER = 2.11; // bark, 1–3 cm: 1.73–2.38 (rising with h/R)
+    constexpr double SPHERE = 4.8;    // sphere/isogonic, 4–8 mm on a 5 cm radius: 4.25–5.74 (rising with h/R)
     if (surface_kind == "cylinder") return CYLINDER;
     if (surface_kind == "sphere") return SPHERE;
     return PLANE;

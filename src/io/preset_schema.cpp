@@ -75,7 +75,7 @@ std::vector<KeySpec> build_schema() {
                        "Artist control: the typical plate or fissure spacing, in metres ((2 − anisotropy) / crack "
                        "density: 2/ρ for a network, 1/ρ for parallel fissures). When above 0 it sets "
                        "material.thickness (which it overrides) to this spacing over the ratio measured on the "
-                       "default presets: 2.65 thicknesses on a plane (mud), 1.93 on a cylinder (bark), 3.7 "
+                       "default presets: 2.73 thicknesses on a plane (mud), 2.11 on a cylinder (bark), 4.8 "
                        "on a sphere (the isogonic skin); a thickness ramp keeps its shape, scaled to that mean. "
                        "Other materials (threshold, shrinkage, toughness) space their cracks differently, so "
                        "treat it as a starting point. 0 = off: material.thickness applies."));

@@ -160,9 +160,9 @@ TEST_SUITE("app") {
         // The calibrated thickness: the spacing over the surface's ratio, a ramp keeping its shape.
         const double plane = io::pattern_spacing_per_thickness("plane");
         const double cylinder = io::pattern_spacing_per_thickness("cylinder");
-        CHECK(plane == doctest::Approx(2.65));
-        CHECK(cylinder == doctest::Approx(1.93));
-        CHECK(io::pattern_spacing_per_thickness("sphere") == doctest::Approx(3.7));
+        CHECK(plane == doctest::Approx(2.73));
+        CHECK(cylinder == doctest::Approx(2.11));
+        CHECK(io::pattern_spacing_per_thickness("sphere") == doctest::Approx(4.8));
         const io::Preset mud = test::load("mud", {"material.pattern_scale=0.05"});
         CHECK(mud.numbers("material.thickness")[0] == doctest::Approx(0.05 / plane));
         CHECK(mud.numbers("material.thickness")[1] == doctest::Approx(0.05 / plane));
