@@ -34,6 +34,11 @@ constexpr int BLOCK_ROWS = 128;
 constexpr double PROFILE_BLEND = 4.0;
 /// Beyond its groove's extent a curve fades out of the join over this share of the extent.
 constexpr double FADE = 0.4;
+/// The curves are scanned in parts about this many times their scan width long: a pixel keeps
+/// each part's nearest point, so a curve that comes back beside itself keeps both stretches
+/// unless both lie in one part (a bend tighter than the part, where the two stretches are near
+/// along the curve too). Shorter parts would keep more apart, at more slots a pixel.
+constexpr double PART = 2.0;
 /// The steepest turn of a groove's slope between neighbouring pixels anywhere on a fillet:
 /// narrower features would show as creases (the bound is 10° between neighbours).
 constexpr double TURN_PER_PIXEL = 9.0 * PI / 180.0;
@@ -44,47 +49,91 @@ constexpr int PROFILE_SMOOTH_PX = 1;
 /// Rows of a block's halo: the reach of the profiles' smoothing.
 constexpr int HALO = 3 * PROFILE_SMOOTH_PX;
 
+/// How distinct two nearest points of one curve are, from how far apart they lie along it (Δs)
+/// against their distances from the pixel (d₁ + d₂): 0 up to Δs = DISTINCT_FROM · (d₁ + d₂) (the
+/// points of a half circle round the pixel are one neighbourhood: the inner side of a bend), 1
+/// from DISTINCT_FROM + DISTINCT_OVER on (the arms of a hairpin, a chain's end beside its middle).
+constexpr double DISTINCT_FROM = 1.6, DISTINCT_OVER = 2.0;
+
+/// Where a slot's curve is met: how far along it (m), and the length of the loop it closes (0: not
+/// a loop).
+struct Along {
+    double arc = 0, loop = 0;
+};
+
 /// The curves' distances joined by a smooth minimum, −r·ln Σ exp(−dᵢ/r) (symmetric in the
 /// curves, so the join does not depend on their order, and smooth), and their profiles blended
 /// with the weights exp(−dᵢ/r) / Σ: where two cracks meet, the plate's corner is rounded in plan
 /// by about r, and the ridge between two grooves has a rounded crest, with no crease along the
 /// line of equal distance. A curve nearer than the others by several r keeps its own distance
 /// and profile.
-template <class ShareOf, class ProfileOf, class ExtentOf>
+/// The slots are curve parts (render/groove_scan.hpp): two of one curve count as two curves as
+/// far as their points are distinct along it (`DISTINCT_FROM`), and as one (the nearer) where
+/// they are neighbours, so a curve that comes back beside itself joins its two stretches as two
+/// curves would, and its nearest point never jumps between them with their profiles.
+template <class ShareOf, class ProfileOf, class ExtentOf, class ChainOf, class AlongOf>
 std::pair<double, Profile> join_nearest(const scan::Nearest& n, double r, ShareOf&& share_of, ProfileOf&& profile_of,
-                                        ExtentOf&& extent_of) {
+                                        ExtentOf&& extent_of, ChainOf&& chain_of, AlongOf&& along_of) {
+    constexpr int SLOTS = scan::Nearest::SLOTS;
     // Each curve's terms fade out beyond its groove's extent (over FADE of it), so a curve
     // leaves the join smoothly where its scan ends and never bends its own groove. The profiles blend over a longer
     // distance than the distances join (PROFILE_BLEND × r): a later, shallower crack's floor meets the deeper one it
     // ends on by a gentle step. (A curve's whole profile is interpolated only where it is blended:
     // the fade needs its share alone.)
-    std::array<double, scan::Nearest::SLOTS> fade{}, w{};
+    std::array<double, SLOTS> fade{}, w{};
     // The nearest of the curves that take part: a faded-out curve nearer than them must not be
     // the reference of the exponentials (their terms would underflow beyond ~28 r, and the
     // grooves vanish along the edge of its scan).
     double least = std::numeric_limits<double>::infinity();
-    for (int k = 0; k < scan::Nearest::SLOTS; ++k) {
-        if (n.curve[k] < 0) continue;
-        const double beyond_extent = smooth01((n.distance[k] / std::max(extent_of(k), 1e-12) - 1.0) / FADE);
+    std::array<std::uint32_t, SLOTS> chain{};
+    bool twice = false; // a curve in two slots
+    for (int k = 0; k < SLOTS; ++k) {
+        const auto K = static_cast<std::size_t>(k);
+        if (n.curve[K] < 0) continue;
+        chain[K] = chain_of(k);
+        for (int j = 0; j < k; ++j)
+            twice |= n.curve[static_cast<std::size_t>(j)] >= 0 && chain[static_cast<std::size_t>(j)] == chain[K];
+        const double beyond_extent = smooth01((n.distance[K] / std::max(extent_of(k), 1e-12) - 1.0) / FADE);
         if (beyond_extent >= 1.0) continue; // faded out
-        fade[k] = (1.0 - beyond_extent) * smooth01(share_of(k) / SHALLOW);
-        if (fade[k] > 0) least = std::min(least, double(n.distance[k]));
+        fade[K] = (1.0 - beyond_extent) * smooth01(share_of(k) / SHALLOW);
+        if (fade[K] > 0) least = std::min(least, double(n.distance[K]));
     }
     if (!std::isfinite(least)) return {std::numeric_limits<double>::infinity(), Profile{}};
+    // Two parts of one curve: the farther counts as far as it is distinct from each nearer one
+    // (faded or not: where the two are one neighbourhood of the curve, the nearest point alone
+    // shapes the groove, as it did with one entry per curve). Where two neighbours swap, their
+    // fades are alike (the share and the extent vary smoothly along a curve).
+    std::array<double, SLOTS> counts;
+    counts.fill(1.0);
+    if (twice) {
+        for (int k = 0; k < SLOTS; ++k)
+            for (int j = 0; j < SLOTS; ++j) {
+                const auto K = static_cast<std::size_t>(k), J = static_cast<std::size_t>(j);
+                if (j == k || fade[K] <= 0 || n.curve[J] < 0 || chain[K] != chain[J]) continue;
+                if (n.distance[J] > n.distance[K] || (n.distance[J] == n.distance[K] && j > k)) continue;
+                const Along at_k = along_of(k), at_j = along_of(j);
+                double apart = std::abs(at_k.arc - at_j.arc);
+                if (at_k.loop > 0) apart = std::min(apart, at_k.loop - apart);
+                counts[K] *= smooth01((apart / std::max(double(n.distance[K]) + n.distance[J], 1e-12) - DISTINCT_FROM)
+                                      / DISTINCT_OVER);
+            }
+    }
     double sum = 0;
-    for (int k = 0; k < scan::Nearest::SLOTS; ++k) {
-        if (fade[k] <= 0) continue;
-        const double beyond = n.distance[k] - least; // exp(−0) = 1 exactly: the nearest curve's terms
-        sum += fade[k] * (beyond > 0 ? std::exp(-beyond / r) : 1.0);
-        w[k] = fade[k] * (beyond > 0 ? std::exp(-beyond / (PROFILE_BLEND * r)) : 1.0);
+    for (int k = 0; k < SLOTS; ++k) {
+        const auto K = static_cast<std::size_t>(k);
+        if (fade[K] <= 0) continue;
+        const double beyond = n.distance[K] - least; // exp(−0) = 1 exactly: the nearest curve's terms
+        sum += counts[K] * fade[K] * (beyond > 0 ? std::exp(-beyond / r) : 1.0);
+        w[K] = counts[K] * fade[K] * (beyond > 0 ? std::exp(-beyond / (PROFILE_BLEND * r)) : 1.0);
     }
     Profile p;
     double seen = 0;
-    for (int k = 0; k < scan::Nearest::SLOTS; ++k) {
+    for (int k = 0; k < SLOTS; ++k) {
         if (w[k] <= 0) continue;
         p = seen == 0 ? profile_of(k) : lerp(p, profile_of(k), w[k] / (seen + w[k]));
         seen += w[k];
     }
+    if (seen <= 0) return {std::numeric_limits<double>::infinity(), Profile{}};
     return {std::max(least - r * (sum == 1.0 ? 0.0 : std::log(sum)), 0.0), p}; // ln 1 = 0 exactly: one curve
 }
 
@@ -100,14 +149,22 @@ struct Joined {
 struct SegmentEnds {
     Profile a, b;
     float extent = 0;
+    std::uint32_t curve = 0;
+    float arc = 0, length = 0, loop = 0; ///< m: along the curve to a; the segment's; a loop's whole (0: open)
 };
 
 std::vector<SegmentEnds> segment_ends(const std::vector<scan::Segment>& segs,
-                                      const std::vector<std::vector<Profile>>& profiles) {
+                                      const std::vector<std::vector<Profile>>& profiles,
+                                      const std::vector<bool>& loop) {
     std::vector<SegmentEnds> ends(segs.size());
     for (std::size_t k = 0; k < segs.size(); ++k)
-        ends[k] = {profiles[segs[k].curve][segs[k].point], profiles[segs[k].curve][segs[k].point + 1],
-                   static_cast<float>(segs[k].extent)};
+        ends[k] = {profiles[segs[k].curve][segs[k].point],
+                   profiles[segs[k].curve][segs[k].point + 1],
+                   static_cast<float>(segs[k].extent),
+                   segs[k].curve,
+                   static_cast<float>(segs[k].arc),
+                   static_cast<float>(segs[k].length),
+                   static_cast<float>(loop[segs[k].curve] ? segs[k].curve_length : 0.0)};
     return ends;
 }
 
@@ -137,7 +194,12 @@ Joined join_block(const PixelGrid& g, const std::vector<scan::Segment>& segs, co
                     const SegmentEnds& e = ends[n.segment[static_cast<std::size_t>(slot)]];
                     return lerp(e.a, e.b, n.t[static_cast<std::size_t>(slot)]);
                 },
-                [&](int slot) { return double(ends[n.segment[static_cast<std::size_t>(slot)]].extent); });
+                [&](int slot) { return double(ends[n.segment[static_cast<std::size_t>(slot)]].extent); },
+                [&](int slot) { return ends[n.segment[static_cast<std::size_t>(slot)]].curve; },
+                [&](int slot) {
+                    const SegmentEnds& e = ends[n.segment[static_cast<std::size_t>(slot)]];
+                    return Along{e.arc + double(n.t[static_cast<std::size_t>(slot)]) * e.length, e.loop};
+                });
             if (!std::isfinite(d)) continue;
             j.distance[i] = static_cast<float>(d);
             j.window.put(x, row, p);
@@ -282,11 +344,14 @@ GrooveField groove_field(const PixelGrid& g, const std::vector<CrackCurve>& curv
     // Within the groove, the lift is shaped by the groove's own distance; from half its extent
     // outwards it blends into the lift field (below), which reaches farther at a coarser step.
     std::vector<float> own_lift(curl ? px : 0, 0.0f);
+    std::vector<bool> loops(curves.size());
+    for (std::size_t c = 0; c < curves.size(); ++c)
+        loops[c] = curves[c].closed;
     Timer timer;
     {
-        const std::vector<scan::Segment> segs = scan::segments(g, reduced, extents(profiles, 0.0), FADE);
+        const std::vector<scan::Segment> segs = scan::segments(g, reduced, extents(profiles, 0.0), FADE, PART);
         const std::vector<scan::Bin> bins = scan::bins(g, segs, BLOCK_ROWS, HALO);
-        const std::vector<SegmentEnds> ends = segment_ends(segs, profiles);
+        const std::vector<SegmentEnds> ends = segment_ends(segs, profiles, loops);
         parallel_tasks(static_cast<int>(bins.size()), [&](int block) {
             const Joined j = join_block(g, segs, bins[static_cast<std::size_t>(block)], block, ends, o);
             for (int y = j.r0; y < j.r1; ++y) {
@@ -327,9 +392,9 @@ GrooveField groove_field(const PixelGrid& g, const std::vector<CrackCurve>& curv
     std::vector<float> lift(coarse.pixels(), 0.0f);
     {
         const std::vector<scan::Segment> segs =
-            scan::segments(coarse, coarse_reduced, extents(coarse_profiles, o.curl_reach), FADE);
+            scan::segments(coarse, coarse_reduced, extents(coarse_profiles, o.curl_reach), FADE, PART);
         const std::vector<scan::Bin> bins = scan::bins(coarse, segs, BLOCK_ROWS, HALO);
-        const std::vector<SegmentEnds> ends = segment_ends(segs, coarse_profiles);
+        const std::vector<SegmentEnds> ends = segment_ends(segs, coarse_profiles, loops);
         parallel_tasks(static_cast<int>(bins.size()), [&](int block) {
             const Joined j = join_block(coarse, segs, bins[static_cast<std::size_t>(block)], block, ends, o);
             for (int y = j.r0; y < j.r1; ++y)

@@ -11,7 +11,7 @@ void Nearest::offer(double d2, std::int32_t c, std::uint32_t k, double at) {
         if (curve[i] == c) slot = i;
         if (curve[i] < 0 || (curve[farthest] >= 0 && distance[i] > distance[farthest])) farthest = i;
     }
-    // The distance the offer must beat: the curve's own, else the farthest of four.
+    // The distance the offer must beat: the part's own, else the farthest of the slots.
     const int against = slot >= 0 ? slot : farthest;
     if (curve[against] >= 0) {
         // float(√d2) ≥ L whenever d2 ≥ L² (rounding is monotone): most offers end here, before the root.
@@ -24,7 +24,7 @@ void Nearest::offer(double d2, std::int32_t c, std::uint32_t k, double at) {
 }
 
 std::vector<Segment> segments(const PixelGrid& g, const std::vector<CrackCurve>& curves,
-                              const std::vector<std::vector<double>>& extent, double fade) {
+                              const std::vector<std::vector<double>>& extent, double fade, double part) {
     const int W = g.width, H = g.height;
     auto to_px = [&](const Vec2& uv) { return Vec2(uv.x() * W - 0.5, (1.0 - uv.y()) * H - 0.5); };
     std::vector<Segment> segs;
@@ -81,6 +81,62 @@ std::vector<Segment> segments(const PixelGrid& g, const std::vector<CrackCurve>&
         k0 = k1;
     }
 
+    // Arcs in metres (each segment at its middle row's metres per pixel), and the parts: a
+    // curve cut into equal parts about `part` scan widths long, each cut at the straightest joint
+    // within a quarter part of its place. On a bend's inner side the pixels near a cut see both
+    // parts' nearest points (the same neighbourhood of the curve, counted once by the join, but
+    // a slot each): at a straight joint that wedge is thin.
+    auto metres_u = [&](double y) {
+        const int row = std::clamp(static_cast<int>(std::lround(y)), 0, H - 1);
+        return g.metres_u[static_cast<std::size_t>(g.wrap_v ? ((row % H) + H) % H : row)];
+    };
+    auto direction = [&](const Segment& s, double y) {
+        const Vec2 d((s.b.x() - s.a.x()) * metres_u(y), (s.b.y() - s.a.y()) * g.metres_v);
+        return d.norm() > 0 ? Vec2(d / d.norm()) : Vec2(1, 0);
+    };
+    std::uint32_t parts = 0;
+    for (std::size_t k0 = 0; k0 < segs.size();) {
+        std::size_t k1 = k0;
+        double arc = 0;
+        for (; k1 < segs.size() && segs[k1].curve == segs[k0].curve; ++k1) {
+            Segment& s = segs[k1];
+            const Vec2 d = s.b - s.a;
+            s.arc = arc;
+            s.length = std::hypot(d.x() * metres_u(0.5 * (s.a.y() + s.b.y())), d.y() * g.metres_v);
+            arc += s.length;
+        }
+        const auto n = static_cast<std::size_t>(std::max(1.0, std::round(arc / std::max(part * segs[k0].scan, 1e-12))));
+        const bool loop = curves[segs[k0].curve].closed;
+        std::size_t at = k0; // the joint the last cut was made at (the curve's start)
+        for (std::size_t cut = 1; cut < n; ++cut) {
+            const double place = arc * double(cut) / double(n), window = 0.25 * arc / double(n);
+            std::size_t best = 0;
+            double best_bend = 0, best_off = 0;
+            bool inside_best = false;
+            for (std::size_t k = at + 1; k < k1 && !(best != 0 && segs[k].arc > place + window); ++k) {
+                const double off = std::abs(segs[k].arc - place); // the joint at segs[k].a
+                const double bend = 1.0 - direction(segs[k - 1], segs[k].a.y()).dot(direction(segs[k], segs[k].a.y()));
+                const bool inside = off <= window;
+                if (best == 0 || (inside && (!inside_best || bend < best_bend)) || (!inside_best && off < best_off))
+                    best = k, best_bend = bend, best_off = off, inside_best = inside;
+            }
+            if (best == 0) break; // no joint left: fewer parts
+            segs[best - 1].open_b = segs[best].open_a = true;
+            at = best;
+        }
+        for (std::size_t k = k0, p = 0; k < k1; ++k) {
+            Segment& s = segs[k];
+            if (k > k0 && s.open_a) ++p;
+            s.part = parts + static_cast<std::uint32_t>(p);
+            s.curve_length = arc;
+            if (k + 1 == k1) {
+                if (loop && p > 0) segs[k0].open_a = s.open_b = true; // the first and last parts meet
+                parts += static_cast<std::uint32_t>(p + 1);
+            }
+        }
+        k0 = k1;
+    }
+
     return segs;
 }
 
@@ -116,12 +172,12 @@ void offer_block(const PixelGrid& g, const std::vector<Segment>& segs, const Bin
     auto grid_row = [&](int y) { return g.wrap_v ? ((y % H) + H) % H : (y >= 0 && y < H ? y : -1); };
     for (const auto& [k, shift] : bin) {
         const Segment& s = segs[k];
-        const auto curve = static_cast<std::int32_t>(s.curve);
+        const auto key = static_cast<std::int32_t>(s.part);
         // The segment and its rectangle in a row's metres (recomputed only where the metres
         // per pixel in u change: on the sphere).
         double mu = -1;
         const double mv = g.metres_v;
-        Vec2 a(0, 0), ab(0, 0);
+        Vec2 a(0, 0), ab(0, 0), into_a(0, 0), out_of_b(0, 0); // (the directions of the neighbouring segments)
         double len = 0;
         const double scan2 = s.scan * s.scan;
         std::array<Vec2, 4> corner{a, a, a, a};
@@ -133,6 +189,8 @@ void offer_block(const PixelGrid& g, const std::vector<Segment>& segs, const Bin
                 const Vec2 b(s.b.x() * mu, (s.b.y() + shift) * mv);
                 ab = b - a;
                 len = ab.norm();
+                into_a = Vec2((s.a.x() - s.before.x()) * mu, (s.a.y() - s.before.y()) * mv);
+                out_of_b = Vec2((s.after.x() - s.b.x()) * mu, (s.after.y() - s.b.y()) * mv);
                 const Vec2 dir = len > 0 ? Vec2(ab / len) : Vec2(1, 0), nrm(-dir.y(), dir.x());
                 // How far past a joint the wedge of pixels nearest to it reaches (plus a
                 // margin), and on which side: the wedge lies on the bend's outer side, away
@@ -187,9 +245,16 @@ void offer_block(const PixelGrid& g, const std::vector<Segment>& segs, const Bin
             Nearest* row = &state[static_cast<std::size_t>((y - h0) * W)];
             for (int x = x0, wrapped = ((x0 % W) + W) % W; x <= x1; ++x, wrapped = wrapped + 1 < W ? wrapped + 1 : 0) {
                 const Vec2 q(x * mu, ym);
-                const double t = len > 0 ? std::clamp((q - a).dot(ab) / (len * len), 0.0, 1.0) : 0.0;
+                const double raw = len > 0 ? (q - a).dot(ab) / (len * len) : 0.0;
+                // Past an end the nearest point is the end: a local minimum along the curve only
+                // at the curve's own end, or at a joint where the neighbouring segment's nearest
+                // point is the joint too (the bend's outer side). A joint between two parts
+                // belongs to the part that starts there.
+                if (raw < 0 && !s.cap_a && (q - a).dot(into_a) < 0) continue;
+                if (raw > 1 && !s.cap_b && (s.open_b || (q - a - ab).dot(out_of_b) > 0)) continue;
+                const double t = std::clamp(raw, 0.0, 1.0);
                 const double d2 = (q - a - t * ab).squaredNorm();
-                if (d2 <= scan2) row[wrapped].offer(d2, curve, k, t);
+                if (d2 <= scan2) row[wrapped].offer(d2, key, k, t);
             }
         }
     }

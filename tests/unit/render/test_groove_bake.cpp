@@ -360,20 +360,13 @@ TEST_SUITE("render") {
             CHECK(p99 <= 10.0);
             // No steps: where blended profiles did not reach their own depth, the floor fillet began
             // with a jump (stop 48's code: mud 442, bark 4708 such pixels, up to 0.7 mm).
-            // Known miss (issue 35): a pixel's nearest point of a curve can jump between two parts
-            // of the same curve whose profiles differ (the join keeps one point per curve), and the
-            // height steps along that line. Bark showed 54 such pixels; since its fissures cross the
-            // tile's seams and its auto count is 8888 (2026-12-07) its pattern has 328, in two
-            // places, with cliffs of up to 12 mm. Diagnosed on the 2222-element pattern (273
-            // pixels): along an arc at (1608, 738) the young, shallow end of a chain (share 0 over
-            // its first segments) lies 5 mm from a deep part of the same chain (share 0.97),
-            // reached through junctions. (Giving the round caps beyond curve ends keys of their own
-            // removed 47 of the 273; the fix needs the join to keep both parts: two entries per
-            // curve where their points lie farther apart along it than from the pixel.) The bound
-            // for bark is the measured count with a margin, until that fix.
+            // Nor where a curve comes back beside itself: a join that kept one point per curve let
+            // a pixel's nearest point jump between a chain's young, shallow end and its deep middle
+            // reached through junctions (bark: 328 step pixels, cliffs of up to 12 mm; with a key per
+            // curve part, render/groove_scan.hpp, 7 of at most 0.3 mm).
             const int jumps = steps(set);
             CAPTURE(jumps);
-            CHECK(jumps <= (name == "bark" ? 400 : 100));
+            CHECK(jumps <= 100);
         }
     }
 
