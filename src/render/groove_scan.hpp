@@ -1,7 +1,7 @@
 #pragma once
 /// @file The distance scan behind the grooves (render/groove.hpp): every segment of the crack
 /// curves offers its exact distance to the pixels within its curve's reach, and each pixel keeps
-/// its nearest few curves. Scan-converted per segment (Mauch 2000's characteristic regions): a
+/// its nearest few curve parts. Scan-converted per segment (Mauch 2000's characteristic regions): a
 /// segment scans the rectangle of its curve's widest reach beside it, and past a joint only the
 /// wedge of pixels nearest to the joint (reach · sin of the turn) on the bend's outer side; round
 /// caps only at a curve's ends. The cost grows with crack length × reach.
@@ -52,9 +52,10 @@ struct alignas(32) Nearest {
 
 /// The curves' segments in `grid`'s pixel coordinates. `extent[c][i]` (m): how far the groove
 /// reaches from point i of curve c; every segment of a curve scans (1 + fade) × the curve's widest.
-/// Each curve is cut into parts of about `part` × that scan width along it (equal parts, at its
-/// points); a part's ends where it meets the next part are `open` (no pixel's nearest point of
-/// a part is one of those ends: the neighbouring part's point there is as near).
+/// Each curve is cut into parts of about `part` × that scan width along it (each cut at the
+/// straightest joint within a quarter part of its place); a part's ends where it meets the next
+/// part are `open`. A joint between two parts is offered by the part that starts there only (the
+/// part that ends there has the same point, so nothing is lost).
 std::vector<Segment> segments(const PixelGrid& grid, const std::vector<CrackCurve>& curves,
                               const std::vector<std::vector<double>>& extent, double fade, double part);
 
@@ -65,8 +66,9 @@ std::vector<Bin> bins(const PixelGrid& grid, const std::vector<Segment>& segs, i
 
 /// Offers every segment of `bin` to the rows h0 … h0 + rows − 1 (wrapped in v, or skipped past
 /// the map's edge) of `state` (rows × width), where its nearest point is a local minimum of the
-/// distance along the curve (so the offers do not depend on how far the scan reaches). `margin_px`: how far past the
-/// wedge of pixels nearest to a joint the scan reaches (a huge value scans every segment's whole neighbourhood).
+/// distance along the curve (so the offers do not depend on how far the scan reaches).
+/// `margin_px`: how far past the wedge of pixels nearest to a joint the scan reaches (a huge
+/// value scans every segment's whole neighbourhood).
 void offer_block(const PixelGrid& grid, const std::vector<Segment>& segs, const Bin& bin, int h0, int rows,
                  double margin_px, std::vector<Nearest>& state);
 
