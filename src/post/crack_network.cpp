@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <set>
 #include <tuple>
@@ -61,6 +62,10 @@ using Key = std::pair<std::uint32_t, std::uint32_t>;
 struct HangingSides {
     std::set<Key> coarse;      ///< lips whose other side runs through hanging nodes: dropped
     std::map<Key, double> gap; ///< the finer side's links: their gap to the coarse lip (m)
+    /// The hanging nodes' places on the coarse lip across the gap: the other side of the crack
+    /// there, which the node has no copy on (a stem ending on a bar at a hanging node has its two
+    /// corners on the bar's near lip and none on the far one).
+    std::map<std::uint32_t, Vec2> across;
 };
 
 /// The crack edges split on one side only (fracture/hanging_splits.hpp), with each finer link's
@@ -89,9 +94,41 @@ HangingSides hanging_sides(const std::vector<Lip>& lips, const std::map<Key, std
                     * (nearest_image(there, fine.at(split.path[k]), periodic) - there).cwiseProduct(fine.metric).norm();
             }
             out.gap[fine_key] = gap;
+            if (i > 0) out.across[split.path[i]] = (1 - split.t[i]) * ca + split.t[i] * cb;
         }
     }
     return out;
+}
+
+/// The centre of the smallest circle round `points` (texture coordinates; distances in metres
+/// through `metres`, per unit of u and v): where a junction's pieces' corners are equally far.
+Vec2 enclosing_centre(const std::vector<Vec2>& points, const Vec2& metres) {
+    const std::size_t n = points.size();
+    std::vector<Vec2> q(n);
+    for (std::size_t i = 0; i < n; ++i)
+        q[i] = points[i].cwiseProduct(metres);
+    Vec2 best = Vec2::Zero();
+    double best_r = std::numeric_limits<double>::infinity();
+    auto consider = [&](const Vec2& c, double r) {
+        if (r >= best_r) return;
+        for (const Vec2& p : q)
+            if ((p - c).norm() > r * (1 + 1e-9) + 1e-12) return;
+        best = c, best_r = r;
+    };
+    for (std::size_t i = 0; i < n; ++i)
+        for (std::size_t j = i + 1; j < n; ++j) {
+            consider(0.5 * (q[i] + q[j]), 0.5 * (q[i] - q[j]).norm());
+            for (std::size_t k = j + 1; k < n; ++k) {
+                const Vec2 a = q[j] - q[i], b = q[k] - q[i];
+                const double d = 2 * (a.x() * b.y() - a.y() * b.x());
+                if (std::abs(d) < 1e-18) continue;
+                const Vec2 c(b.y() * a.squaredNorm() - a.y() * b.squaredNorm(),
+                             a.x() * b.squaredNorm() - b.x() * a.squaredNorm());
+                consider(q[i] + c / d, (c / d).norm());
+            }
+        }
+    if (!std::isfinite(best_r)) return points.front();
+    return best.cwiseQuotient(metres);
 }
 
 Graph edge_graph(const fracture::CrackPattern& p, const std::vector<std::vector<Vec2>>& copies,
@@ -106,9 +143,11 @@ Graph edge_graph(const fracture::CrackPattern& p, const std::vector<std::vector<
             sum += nearest_image(c.front(), uv, periodic);
         return Vec2(sum / double(c.size()));
     };
-    // Copies of one reference point (a split's two sides) are one node, at their mean place.
+    // Copies of one reference point (a split's two sides) are one node, at the centre of the
+    // smallest circle round their places (in metres).
     std::map<std::array<double, 3>, std::uint32_t> node_of;
     std::vector<Vec2> sum, node_metric;
+    std::vector<std::vector<Vec2>> node_copies;
     std::vector<Vec3> reference; // per node: the reference position (domain coordinates on a periodic domain)
     std::vector<int> count;
     auto node = [&](mesh::VertexId v) {
@@ -123,10 +162,14 @@ Graph edge_graph(const fracture::CrackPattern& p, const std::vector<std::vector<
             reference.push_back(key3);
             node_metric.push_back(metric[ix(v)]);
             count.push_back(1);
+            node_copies.emplace_back();
         } else {
             sum[it->second] += nearest_image(sum[it->second] / count[it->second], uv, periodic);
             ++count[it->second];
         }
+        auto& cs = node_copies[it->second];
+        for (const Vec2& c : copies[ix(v)])
+            cs.push_back(nearest_image(cs.empty() ? c : cs.front(), c, periodic));
         return it->second;
     };
     // Each crack edge is one lip; a link's two lips give its gap (the mean separation of their
@@ -138,8 +181,6 @@ Graph edge_graph(const fracture::CrackPattern& p, const std::vector<std::vector<
         const mesh::VertexId va = face.v[k], vb = face.v[(k + 1) % 3];
         lips[c] = {node(va), node(vb), place(va), place(vb), metric[ix(va)]};
     }
-    for (std::size_t n = 0; n < sum.size(); ++n)
-        g.add_node(sum[n] / count[n], node_metric[n]);
     std::map<std::pair<std::uint32_t, std::uint32_t>, std::vector<std::size_t>> sides;
     for (std::size_t c = 0; c < lips.size(); ++c)
         sides[std::minmax(lips[c].a, lips[c].b)].push_back(c);
@@ -148,6 +189,20 @@ Graph edge_graph(const fracture::CrackPattern& p, const std::vector<std::vector<
     // crack's path, measured against the coarse lip; the coarse link is dropped, so the network
     // has no spurious triangles there.
     const HangingSides hanging = hanging_sides(lips, sides, reference, p);
+    // A node lies where its pieces' corners are equally far (the centre of the smallest circle
+    // round them): the middle of the gap along a crack, and at a junction the point of the gap's
+    // centre lines, not the corners' mean (a T's mean lies a sixth of the bar's opening towards
+    // the stem). A hanging node takes the far lip's place across the gap as its other side.
+    for (std::size_t n = 0; n < sum.size(); ++n) {
+        std::vector<Vec2>& cs = node_copies[n];
+        if (const auto it = hanging.across.find(static_cast<std::uint32_t>(n)); it != hanging.across.end())
+            cs.push_back(nearest_image(cs.front(), it->second, periodic));
+        // (a vertex's copies were added once per lip it ends: the same places, exactly)
+        std::sort(cs.begin(), cs.end(),
+                  [](const Vec2& a, const Vec2& b) { return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y()); });
+        cs.erase(std::unique(cs.begin(), cs.end()), cs.end());
+        g.add_node(cs.size() >= 2 ? enclosing_centre(cs, node_metric[n]) : Vec2(sum[n] / count[n]), node_metric[n]);
+    }
     for (const auto& [key, list] : sides) {
         if (hanging.coarse.count(key)) continue;
         double gap = 0;

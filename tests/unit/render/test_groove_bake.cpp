@@ -211,9 +211,14 @@ Junctions region_junctions(int w, int h, const std::vector<int>& label, int reac
     return out;
 }
 /// How the largest angle at each classified junction of `a` changes in `b` (the nearest junction
-/// of `b` within 4 px; periodic): the median and the 90th percentile of |Δ| in degrees.
-std::pair<double, double> largest_angle_change(const Junctions& a, const Junctions& b, int w, int h) {
+/// of `b` within 4 px; periodic), in degrees.
+struct AngleChange {
+    double median = 0, p90 = 0; ///< of |Δ|
+    double mean = 0;            ///< of Δ: below 0 where b closes up T's towards Y's
+};
+AngleChange largest_angle_change(const Junctions& a, const Junctions& b, int w, int h) {
     std::vector<double> diff;
+    double sum = 0;
     for (const auto& p : a.at) {
         double best = 1e300, angle = 0;
         for (const auto& q : b.at) {
@@ -221,11 +226,11 @@ std::pair<double, double> largest_angle_change(const Junctions& a, const Junctio
             dx = std::min(dx, w - dx), dy = std::min(dy, h - dy);
             if (std::hypot(dx, dy) < best) best = std::hypot(dx, dy), angle = q[2];
         }
-        if (best <= 4) diff.push_back(std::abs(angle - p[2]));
+        if (best <= 4) diff.push_back(std::abs(angle - p[2])), sum += angle - p[2];
     }
     REQUIRE(diff.size() * 10 >= a.at.size() * 9); // nearly every junction found again
     std::sort(diff.begin(), diff.end());
-    return {diff[diff.size() / 2], diff[diff.size() * 9 / 10]};
+    return {diff[diff.size() / 2], diff[diff.size() * 9 / 10], sum / double(diff.size())};
 }
 /// The 99th percentile of the angle (degrees) between neighbouring pixels' normals within 6 px
 /// of a crack (the Mask > 0.5, its own pixels counted), as the issue measures it on the lit
@@ -497,17 +502,22 @@ TEST_SUITE("render") {
                          << from_pieces.classified << ")");
             REQUIRE(from_pieces.count > 50);
             // T stays T, Y stays Y: each junction's largest angle between its branches, matched
-            // junction by junction. Measured (seed 1, branches followed 3-10 mm): the curves' Mask
-            // differs from the pieces by a median 5.8° on the plane and 6.0° on the cylinder (p90 17°),
-            // and its T share is lower (plane 0.67 against 0.75, cylinder 0.71 against 0.76), where the
-            // raster bake, drawn from the same polylines as the ID map, differs by 0.2° (p90 4°; T share
-            // 0.75). The change fades with the distance from the junction (branches at 2-6 mm: 10°;
-            // 5-15 mm: 3.9°; 6-20 mm: 3.6°); it is not the join's rounding (radius 1 or 6 shape pixels:
-            // the same) and only partly the curves' smoothing (4.8° without it). A known miss of issue 35,
-            // reported here; the check holds the measurement itself to the raster control.
-            const auto [median, p90] = largest_angle_change(from_pieces, from_mask, set.width, set.height_px);
-            MESSAGE(kind << ": largest angle at junctions changes by a median " << median << "° (p90 " << p90
-                         << "°) from the pieces to the Mask");
+            // junction by junction (branches followed 3-10 mm). Measured (seed 1), plane / cylinder:
+            // the curves' Mask differs from the pieces by a median 4.1° / 4.8° (p90 12.7° / 14.5°), and
+            // on average it is 3.2° / 2.9° smaller (T's close up towards Y's): T share 0.70 / 0.73
+            // against the pieces' 0.75 / 0.76. The raster bake, drawn from the same polylines as the
+            // ID map, differs by 0.2° (p90 4°), +0.5° on average. Until 2026-12-07 the chains' nodes
+            // were the mean of their pieces' corners: a stem ending on a bar at a hanging node put the
+            // bar's chain on its near lip (median 5.4° / 6.2°, on average −5.1° / −5.3°, T share 0.68 /
+            // 0.71; post/crack_network.cpp now places a node where the pieces are equally far). Of what
+            // is left, the chains drawn as lines shift the largest angle by −1.2°, the smoothed curves
+            // by −2.2° (Chaikin's corner cutting reaches into the 3-10 mm the branches are read over),
+            // the Mask by −3.2°; the join's rounding and the profiles' blending change it by < 0.3°. A
+            // known miss of issue 35 (it asks for the T share within 1 %), reported and bounded here.
+            const AngleChange change = largest_angle_change(from_pieces, from_mask, set.width, set.height_px);
+            MESSAGE(kind << ": largest angle at junctions changes by a median " << change.median << "° (p90 "
+                         << change.p90 << "°, on average " << change.mean << "°) from the pieces to the Mask");
+            CHECK(change.mean > -4.0);
             CHECK(std::abs(from_mask.count - from_pieces.count) <= std::max(1, from_pieces.count / 100));
             if (kind != "plane") continue;
             // The failing control: the raster bake's Mask, whose lip lines break into islands.
@@ -519,11 +529,12 @@ TEST_SUITE("render") {
                 control.width, control.height_px, [&](std::size_t i) { return control.mask[i] < 0.995f; },
                 [](std::size_t, std::size_t) { return true; }, in_control);
             const Junctions from_control = region_junctions(control.width, control.height_px, in_control);
-            const auto [control_median, control_p90] =
+            const AngleChange control_change =
                 largest_angle_change(from_pieces, from_control, set.width, set.height_px);
-            MESSAGE("control (raster grooves): largest angle changes by a median " << control_median << "° (p90 "
-                                                                                   << control_p90 << "°)");
-            CHECK(control_median <= 1.0);
+            MESSAGE("control (raster grooves): largest angle changes by a median "
+                    << control_change.median << "° (p90 " << control_change.p90 << "°, on average "
+                    << control_change.mean << "°)");
+            CHECK(control_change.median <= 1.0);
             MESSAGE("control (raster grooves): " << from_control.count << " junctions in the Mask, T share "
                                                  << from_control.t_share());
             CHECK(std::abs(from_control.count - from_pieces.count) > std::max(1, from_pieces.count / 100));
