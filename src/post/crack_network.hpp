@@ -30,7 +30,9 @@ struct CrackChain {
 };
 
 /// The crack network of `pattern`: split, spring and graph cracks linked along their edges
-/// (the copies a split made of one reference point are one node, at their mean position),
+/// (the copies a split made of one reference point are one node, at the centre of the smallest
+/// circle round them: where the pieces meeting there are equally far; a hanging node's far side
+/// is the coarse lip across the gap),
 /// removed elements linked across shared edges (the chain runs through their centroids).
 /// `copies` holds, for every pattern vertex, the final texture coordinates of each piece's copy
 /// of it (canonical); `metric` its metres per unit of u and v. A link's gap (its opening) is
