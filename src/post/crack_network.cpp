@@ -101,7 +101,8 @@ HangingSides hanging_sides(const std::vector<Lip>& lips, const std::map<Key, std
 }
 
 /// The centre of the smallest circle round `points` (texture coordinates; distances in metres
-/// through `metres`, per unit of u and v): where a junction's pieces' corners are equally far.
+/// through `metres`, per unit of u and v): where a junction's pieces' corners are equally far;
+/// the point itself where there is one.
 Vec2 enclosing_centre(const std::vector<Vec2>& points, const Vec2& metres) {
     const std::size_t n = points.size();
     std::vector<Vec2> q(n);
@@ -146,26 +147,19 @@ Graph edge_graph(const fracture::CrackPattern& p, const std::vector<std::vector<
     // Copies of one reference point (a split's two sides) are one node, at the centre of the
     // smallest circle round their places (in metres).
     std::map<std::array<double, 3>, std::uint32_t> node_of;
-    std::vector<Vec2> sum, node_metric;
-    std::vector<std::vector<Vec2>> node_copies;
+    std::vector<Vec2> node_metric;
+    std::vector<std::vector<Vec2>> node_copies; // per node: its pieces' copies, next to the first
     std::vector<Vec3> reference; // per node: the reference position (domain coordinates on a periodic domain)
-    std::vector<int> count;
     auto node = [&](mesh::VertexId v) {
         const Vec3 key3 = periodic ? Vec3(p.mesh.domain[v].x(), p.mesh.domain[v].y(), 0.0) : p.mesh.positions[v];
         // Copies of a point sit at the same reference position up to round-off: keyed to 1 µm.
         auto q = [](double x) { return std::round(x * 1e6); };
         const auto [it, inserted] = node_of.emplace(std::array<double, 3>{q(key3.x()), q(key3.y()), q(key3.z())},
-                                                    static_cast<std::uint32_t>(sum.size()));
-        const Vec2 uv = place(v);
+                                                    static_cast<std::uint32_t>(node_copies.size()));
         if (inserted) {
-            sum.push_back(uv);
             reference.push_back(key3);
             node_metric.push_back(metric[ix(v)]);
-            count.push_back(1);
             node_copies.emplace_back();
-        } else {
-            sum[it->second] += nearest_image(sum[it->second] / count[it->second], uv, periodic);
-            ++count[it->second];
         }
         auto& cs = node_copies[it->second];
         for (const Vec2& c : copies[ix(v)])
@@ -193,7 +187,7 @@ Graph edge_graph(const fracture::CrackPattern& p, const std::vector<std::vector<
     // round them): the middle of the gap along a crack, and at a junction the point of the gap's
     // centre lines, not the corners' mean (a T's mean lies a sixth of the bar's opening towards
     // the stem). A hanging node takes the far lip's place across the gap as its other side.
-    for (std::size_t n = 0; n < sum.size(); ++n) {
+    for (std::size_t n = 0; n < node_copies.size(); ++n) {
         std::vector<Vec2>& cs = node_copies[n];
         if (const auto it = hanging.across.find(static_cast<std::uint32_t>(n)); it != hanging.across.end())
             cs.push_back(nearest_image(cs.front(), it->second, periodic));
@@ -201,7 +195,7 @@ Graph edge_graph(const fracture::CrackPattern& p, const std::vector<std::vector<
         std::sort(cs.begin(), cs.end(),
                   [](const Vec2& a, const Vec2& b) { return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y()); });
         cs.erase(std::unique(cs.begin(), cs.end()), cs.end());
-        g.add_node(cs.size() >= 2 ? enclosing_centre(cs, node_metric[n]) : Vec2(sum[n] / count[n]), node_metric[n]);
+        g.add_node(enclosing_centre(cs, node_metric[n]), node_metric[n]);
     }
     for (const auto& [key, list] : sides) {
         if (hanging.coarse.count(key)) continue;

@@ -509,11 +509,11 @@ TEST_SUITE("render") {
             // ID map, differs by 0.2° (p90 4°), +0.5° on average. Until 2026-12-07 the chains' nodes
             // were the mean of their pieces' corners: a stem ending on a bar at a hanging node put the
             // bar's chain on its near lip (median 5.4° / 6.2°, on average −5.1° / −5.3°, T share 0.68 /
-            // 0.71; post/crack_network.cpp now places a node where the pieces are equally far). Of what
-            // is left, the chains drawn as lines shift the largest angle by −1.2°, the smoothed curves
-            // by −2.2° (Chaikin's corner cutting reaches into the 3-10 mm the branches are read over),
-            // the Mask by −3.2°; the join's rounding and the profiles' blending change it by < 0.3°. A
-            // known miss of issue 35 (it asks for the T share within 1 %), reported and bounded here.
+            // 0.71; post/crack_network.cpp now places a node where the pieces are equally far). How what
+            // is left builds up, each stage read the same way: the chains drawn as lines −1.2°, the
+            // smoothed curves drawn as lines −2.2° (Chaikin's corner cutting reaches into the 3-10 mm
+            // the branches are read over), the Mask −3.2°; the join's rounding and the profiles' blending change it by
+            // < 0.3°. A known miss of issue 35 (it asks for the T share within 1 %), reported and bounded here.
             const AngleChange change = largest_angle_change(from_pieces, from_mask, set.width, set.height_px);
             MESSAGE(kind << ": largest angle at junctions changes by a median " << change.median << "° (p90 "
                          << change.p90 << "°, on average " << change.mean << "°) from the pieces to the Mask");
