@@ -40,13 +40,14 @@ TEST_SUITE("io") {
         CHECK(io::element_count(load("mud/thickness-gradient", {"simulation.elements=auto"})).elements
               == std::llround(q * 0.25 / (0.01 * 0.04)));
         // The density is the preset's: 2 per h² by default, 4 for mud's T-junctions, 8 for bark's
-        // crack density, 16 for the Siberian elm's T share, 4 for the Table 5.2 base, 4 for the
-        // fruit's T share (and the glaze's, inherited), 8 for the thicker isogonic sphere's (and
-        // z-elongated's); the reason names it.
+        // crack density, 16 for the Siberian elm's T share, 16 for the Table 5.2 family (rows h, m, n
+        // 13-17 % off at 4), 4 for the fruit's T share (and the glaze's, inherited), 8 for the
+        // thicker isogonic sphere's (and z-elongated's); the reason names it.
         CHECK(q == 4.0);
         CHECK(load("bark").number("simulation.elements_per_h2") == 8.0);
         CHECK(load("bark/siberian-elm").number("simulation.elements_per_h2") == 16.0);
-        CHECK(load("bark/table-5-2-base").number("simulation.elements_per_h2") == 4.0);
+        CHECK(load("bark/table-5-2-base").number("simulation.elements_per_h2") == 16.0);
+        CHECK(load("bark/table-5-2-h").number("simulation.elements_per_h2") == 16.0);
         CHECK(load("fruit").number("simulation.elements_per_h2") == 4.0);
         CHECK(load("sphere/crackle-glaze").number("simulation.elements_per_h2") == 4.0);
         CHECK(load("sphere/isogonic").number("simulation.elements_per_h2") == 8.0);
