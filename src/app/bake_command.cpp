@@ -83,7 +83,6 @@ int bake_command(const BakeArgs& args, const GlobalOptions& global, std::ostream
     }
     StepTimes times;
     const io::Preset preset = load_bake_preset(args);
-    require_available_method(preset);
     const BakeOutputs outputs = bake_outputs(args);
     const OutputNames names = bake_names(preset, outputs, "", !args.name.empty());
     Baked b;
@@ -126,15 +125,15 @@ int export_command(const ExportArgs& args, const GlobalOptions& global, std::ost
     Timer total;
     StepTimes times;
     const io::Preset preset = io::load_preset(with_bake_overrides(args.preset, args.size, false));
-    require_available_method(preset);
     const std::string name = bake_names(preset, BakeOutputs{}).base();
     const std::filesystem::path file = args.out_path.empty() ? std::filesystem::path("out") / (name + "." + args.format)
                                                              : std::filesystem::path(args.out_path);
     check_output_path(file, "--out");
     if (!args.json_path.empty()) check_output_path(args.json_path, "--json");
-    const RunBudget budget(preset, true, "the export of " + preset.name);
-    const ProgressPlan plan(progress_stages(preset, true));
-    const Baked b = bake_pipeline(preset, times, args.shader_dir, {args.pattern_path, !args.no_cache});
+    const RunPlan plan = make_run_plan(preset);
+    const RunBudget budget(preset, plan, true, "the export of " + preset.name);
+    const ProgressPlan progress(progress_stages(plan, true));
+    const Baked b = bake_pipeline(preset, plan, times, args.shader_dir, {args.pattern_path, !args.no_cache});
 
     progress_stage("encode");
     Timer step;

@@ -15,7 +15,7 @@
 
 namespace crackle::app {
 
-Baked bake_pipeline(const io::Preset& preset, StepTimes& times, const std::string& shader_dir,
+Baked bake_pipeline(const io::Preset& preset, const RunPlan& plan, StepTimes& times, const std::string& shader_dir,
                     const PatternOptions& pattern) {
     if (!shader_dir.empty())
         for (const char* name : {"common.glsl", "bake.vert", "bake.frag", "id.frag", "fullscreen.vert", "ao.frag"})
@@ -23,7 +23,7 @@ Baked bake_pipeline(const io::Preset& preset, StepTimes& times, const std::strin
                 throw InputError("--shader-dir " + shader_dir, std::string("no ") + name + " there",
                                  "point it at a copy of the shaders/ folder");
     Baked b;
-    b.sim = obtain_simulation(preset, pattern, times);
+    b.sim = obtain_simulation(preset, plan, pattern, times);
     Timer step;
     b.pieces = post::build_pieces(b.sim.pattern, post_options(preset));
     times.emplace_back("post", step.seconds());
@@ -65,9 +65,10 @@ Json bake_one(const io::Preset& preset, const BakeOutputs& outputs, const Output
     // the whole simulation and bake).
     check_output_path(outputs.dir / (names.base() + ".png"), "--out");
     if (!outputs.json_path.empty()) check_output_path(outputs.json_path, "--json");
-    const RunBudget budget(preset, true, "the bake of " + names.base());
-    const ProgressPlan plan(progress_stages(preset, true));
-    Baked b = bake_pipeline(preset, times, shader_dir, pattern);
+    const RunPlan plan = make_run_plan(preset);
+    const RunBudget budget(preset, plan, true, "the bake of " + names.base());
+    const ProgressPlan progress(progress_stages(plan, true));
+    Baked b = bake_pipeline(preset, plan, times, shader_dir, pattern);
     progress_stage("encode");
 
     double encode = 0;

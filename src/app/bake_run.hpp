@@ -11,6 +11,7 @@
 #include "render/texture_set.hpp"
 
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -23,7 +24,7 @@ struct Baked {
     render::TextureSet maps;
 };
 
-Baked bake_pipeline(const io::Preset& preset, StepTimes& times, const std::string& shader_dir,
+Baked bake_pipeline(const io::Preset& preset, const RunPlan& plan, StepTimes& times, const std::string& shader_dir,
                     const PatternOptions& pattern);
 
 /// Where and what one bake writes.
@@ -50,6 +51,10 @@ std::vector<io::MapRequest> bake_maps(const io::Preset& preset);
 /// Runs one bake and writes its files and report; returns the report.
 Json bake_one(const io::Preset& preset, const BakeOutputs& outputs, const OutputNames& names,
               const std::string& shader_dir, const PatternOptions& pattern, StepTimes& times, Baked* keep = nullptr);
+
+/// "2048" → (2048, 0): the longer side; "2048x1024" → (2048, 1024). Empty optional when the text
+/// is neither or a side is outside 16..16384 pixels.
+std::optional<std::pair<int, int>> parse_map_size(const std::string& text);
 
 /// Applies the bake command's shortcuts (--preview, --size WxH) to a preset request.
 io::PresetRequest with_bake_overrides(io::PresetRequest request, const std::string& size, bool preview);

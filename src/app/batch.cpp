@@ -57,7 +57,6 @@ std::vector<Prepared> prepare(const std::vector<Variant>& variants, const BatchO
         request = with_bake_overrides(request, options.size, false);
         try {
             io::Preset preset = io::load_preset(request);
-            require_available_method(preset);
             bake_maps(preset);
             BakeOutputs named = options.outputs;
             named.name_pattern = v.name.empty() ? "{preset}_{seed}" : v.name;
@@ -67,8 +66,9 @@ std::vector<Prepared> prepare(const std::vector<Variant>& variants, const BatchO
             if (const auto [at, fresh] = bases.emplace(base, &v); !fresh)
                 throw InputError(v.where, "writes the same files as " + at->second->where + " ('" + base + "')",
                                  "give each variant its own name, or put {seed} or {variant} in the name");
-            std::string fingerprint = std::string(crackle_version()) + "\n" + resolved_settings(preset).dump() + "\n"
-                                      + base + "\n" + std::to_string(options.outputs.split_pieces);
+            std::string fingerprint = std::string(crackle_version()) + "\n"
+                                      + resolved_settings(preset, make_run_plan(preset)).dump() + "\n" + base + "\n"
+                                      + std::to_string(options.outputs.split_pieces);
             for (const std::string& m : options.outputs.meshes)
                 fingerprint += "\nmesh " + m;
             out.push_back({&v, std::move(preset), std::move(names), hex64(fracture::fnv1a64(fingerprint))});

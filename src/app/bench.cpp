@@ -53,7 +53,7 @@ Json bench_solve(const std::vector<std::size_t>& sizes, std::ostream& out) {
     Json rows = Json::array();
     for (std::size_t n : sizes) {
         const io::Preset preset = mud_preset(n);
-        const auto scene = make_scene(preset);
+        const auto scene = make_scene(preset, make_run_plan(preset));
         const mesh::SurfaceMesh surface_mesh = discretize_scene(*scene, nullptr);
         Json row = Json::object();
         row["elements"] = surface_mesh.num_faces();
@@ -114,7 +114,8 @@ Json bench_fem_remove(const std::vector<std::size_t>& sizes, std::ostream& out) 
         request.name_or_path = "mud";
         request.overrides = {"simulation.elements=" + std::to_string(n), "simulation.method=fem-remove"};
         StepTimes ignored;
-        const SimulationResult r = run_simulation(io::load_preset(request), ignored);
+        const io::Preset preset = io::load_preset(request);
+        const SimulationResult r = run_simulation(preset, make_run_plan(preset), ignored);
         const std::size_t elements = r.elements_initial;
         const fracture::RunStats& run = r.run;
         const fracture::CrackPattern& pattern = r.pattern;
@@ -158,7 +159,8 @@ Json bench_mass_spring(const std::vector<std::size_t>& masses, std::size_t max_b
             r.overrides = {"simulation.elements=" + std::to_string(2 * n), "simulation.method=" + method,
                            "simulation.max_events=" + std::to_string(cap)};
             StepTimes ignored;
-            return run_simulation(io::load_preset(r), ignored);
+            const io::Preset preset = io::load_preset(r);
+            return run_simulation(preset, make_run_plan(preset), ignored);
         };
         const SimulationResult ms = run("mass-spring", n >= 64000 ? max_breaks : 100000000);
         const SimulationResult fr = run("fem-remove", 100000000);
@@ -198,7 +200,8 @@ SimulationResult simulate_with(const std::string& name, const std::vector<std::s
     r.name_or_path = name;
     r.overrides = overrides;
     StepTimes ignored;
-    return run_simulation(io::load_preset(r), ignored);
+    const io::Preset preset = io::load_preset(r);
+    return run_simulation(preset, make_run_plan(preset), ignored);
 }
 
 /// fem-split (§5.7-5.8): local vs global relaxation per event on the same capped run; the
@@ -322,7 +325,7 @@ Json bench_bake(const std::vector<int>& sizes, std::ostream& out) {
     r.name_or_path = "mud";
     const io::Preset preset = io::load_preset(r);
     StepTimes ignored;
-    const SimulationResult sim = run_simulation(preset, ignored);
+    const SimulationResult sim = run_simulation(preset, make_run_plan(preset), ignored);
     const post::PieceMesh pieces = post::build_pieces(sim.pattern, post_options(preset));
     render::GlContext context;
     out << "\n### Bake: the mud preset's pieces, all maps (" << context.description() << ")\n\n"

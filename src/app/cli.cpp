@@ -1,5 +1,6 @@
 #include "app/cli.hpp"
 
+#include "app/bake_run.hpp"
 #include "app/bench.hpp"
 #include "app/bench_scale.hpp"
 #include "app/bench_speedup.hpp"

@@ -49,7 +49,7 @@ int mesh_command(const MeshArgs& args, const GlobalOptions& global, std::ostream
     Timer step;
     // Everything the preset says is checked here, before any work starts.
     const io::Preset preset = io::load_preset(args.preset);
-    const std::unique_ptr<Scene> scene = make_scene(preset);
+    const std::unique_ptr<Scene> scene = make_scene(preset, make_run_plan(preset));
     times.emplace_back("preset", step.seconds());
 
     const mesh::SurfaceMesh surface_mesh = discretize_scene(*scene, &times);
@@ -147,15 +147,15 @@ int simulate_command(const SimulateArgs& args, const GlobalOptions& global, std:
     Timer total;
     StepTimes times;
     const io::Preset preset = io::load_preset(args.preset);
-    require_available_method(preset);
     for (const auto& [path, option] : {std::pair{args.save_path, "--save"},
                                        {args.events_path, "--events"},
                                        {args.png_path, "--png"},
                                        {args.json_path, "--json"}})
         if (!path.empty()) check_output_path(path, option);
-    const RunBudget budget(preset, false, "the simulation of " + preset.name);
-    const ProgressPlan plan(progress_stages(preset, false));
-    const SimulationResult r = run_simulation(preset, times);
+    const RunPlan plan = make_run_plan(preset);
+    const RunBudget budget(preset, plan, false, "the simulation of " + preset.name);
+    const ProgressPlan progress(progress_stages(plan, false));
+    const SimulationResult r = run_simulation(preset, plan, times);
     if (!args.no_cache) cache_store(preset, r); // a bake of the same simulation keys reuses it
 
     progress_stage("write");

@@ -3,7 +3,6 @@
 
 #include "io/preset.hpp"
 
-#include <optional>
 #include <ostream>
 #include <string>
 #include <vector>
@@ -59,10 +58,6 @@ struct BakeArgs {
     std::string seeds;               ///< --seeds 1-100,200: one bake per seed (a batch)
     std::string shard;               ///< --shard i/N: this slice of the seeds
 };
-
-/// "2048" → (2048, 0): the longer side; "2048x1024" → (2048, 1024). Empty optional when the text
-/// is neither or a side is outside 16..16384 pixels.
-std::optional<std::pair<int, int>> parse_map_size(const std::string& text);
 
 /// `crackle bake`: the whole pipeline to a texture set.
 int bake_command(const BakeArgs& args, const GlobalOptions& global, std::ostream& out);

@@ -2,9 +2,9 @@
 
 #include "core/error.hpp"
 #include "io/png.hpp"
+#include "io/resolution.hpp"
 
 #include <cmath>
-#include <tuple>
 
 namespace crackle::app {
 
@@ -101,8 +101,9 @@ Vec3 linear_from_srgb(const std::vector<double>& c) {
 
 render::BakeOptions bake_options(const io::Preset& preset, const post::PieceMesh& pieces) {
     render::BakeOptions o;
-    std::tie(o.width, o.height) = render::map_pixels(pieces, static_cast<int>(preset.integer("bake.size")),
-                                                     static_cast<int>(preset.integer("bake.size_v")));
+    const io::MapSize map = io::map_size(preset, pieces.tile_size);
+    o.width = map.width;
+    o.height = map.height;
     o.samples = static_cast<int>(preset.integer("bake.samples"));
     render::ShadingOptions& s = o.shading;
     s.color = linear_from_srgb(preset.numbers("bake.color"));

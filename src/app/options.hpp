@@ -27,7 +27,7 @@ sim::FemOptions fem_options(const io::Preset& preset);
 fracture::FractureOptions fracture_options(const io::Preset& preset);
 
 post::PostOptions post_options(const io::Preset& preset);
-/// The [bake] section; the map's pixels follow the pieces' surface (render::map_pixels).
+/// The [bake] section; the map's pixels follow the pieces' surface (io::map_size).
 render::BakeOptions bake_options(const io::Preset& preset, const post::PieceMesh& pieces);
 
 } // namespace crackle::app

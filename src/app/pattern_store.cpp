@@ -96,9 +96,11 @@ fracture::RunStats run_from_json(const Json& j) {
 
 /// A simulation result rebuilt from a pattern file: the scene from the preset (for the report's
 /// surface and seed), the pattern and counters from the file, the statistics recomputed.
-SimulationResult result_from_file(const io::Preset& preset, fracture::PatternFile file, std::string source) {
+SimulationResult result_from_file(const io::Preset& preset, const RunPlan& plan, fracture::PatternFile file,
+                                  std::string source) {
     SimulationResult r;
-    r.scene = make_scene(preset);
+    r.plan = plan;
+    r.scene = make_scene(preset, plan);
     r.pattern = std::move(file.pattern);
     const Json& h = file.header;
     r.elements_initial = count_of(h, "elements_initial");
@@ -144,13 +146,13 @@ fs::path cache_dir() {
     return {};
 }
 
-std::string simulation_key(const io::Preset& preset) {
+std::string simulation_key(const io::Preset& preset, const RunPlan& plan) {
     std::string key = "pattern_format = " + std::to_string(fracture::PATTERN_FORMAT_VERSION) + "\n";
     for (const auto& [name, entry] : preset.values()) {
         if (!simulation_relevant(name)) continue;
         if (name == "simulation.elements") {
             // "auto" follows bake.size: the key holds the count the simulation will use.
-            key += name + " = " + std::to_string(io::element_count(preset).elements) + "\n";
+            key += name + " = " + std::to_string(plan.elements.elements) + "\n";
             continue;
         }
         key += name + " = " + exact_text(entry.value) + "\n";
@@ -179,7 +181,7 @@ std::vector<std::uint8_t> pattern_file_bytes(const io::Preset& preset, const Sim
     h["build"] = build_id();
     h["preset"] = preset.name;
     h["seed"] = static_cast<long long>(preset.integer("simulation.seed"));
-    h["simulation_key"] = simulation_key(preset);
+    h["simulation_key"] = simulation_key(preset, r.plan);
     h["elements_initial"] = r.elements_initial;
     h["elements_final"] = r.elements_final;
     h["nodes"] = r.nodes;
@@ -191,7 +193,7 @@ std::vector<std::uint8_t> pattern_file_bytes(const io::Preset& preset, const Sim
 }
 
 void cache_store(const io::Preset& preset, const SimulationResult& result) {
-    const fs::path file = cache_file(simulation_key(preset));
+    const fs::path file = cache_file(simulation_key(preset, result.plan));
     if (file.empty()) return;
     try {
         const std::vector<std::uint8_t> bytes = pattern_file_bytes(preset, result);
@@ -203,13 +205,14 @@ void cache_store(const io::Preset& preset, const SimulationResult& result) {
     }
 }
 
-SimulationResult obtain_simulation(const io::Preset& preset, const PatternOptions& options, StepTimes& times) {
+SimulationResult obtain_simulation(const io::Preset& preset, const RunPlan& plan, const PatternOptions& options,
+                                   StepTimes& times) {
     Timer step;
     if (!options.load_path.empty()) {
         const std::string bytes = read_file(options.load_path, "pattern file");
         fracture::PatternFile file = fracture::decode_pattern(bytes, options.load_path);
         const Json* key = file.header.find("simulation_key");
-        const std::string mine = simulation_key(preset);
+        const std::string mine = simulation_key(preset, plan);
         if (key && key->as_string() != mine) {
             const Json* made = file.header.find("preset");
             log::warn("--pattern ", options.load_path, " was simulated from ",
@@ -217,11 +220,11 @@ SimulationResult obtain_simulation(const io::Preset& preset, const PatternOption
                       preset.name, " (first difference: ", first_difference(mine, key->as_string()),
                       "); the pattern is used as it is");
         }
-        SimulationResult r = result_from_file(preset, std::move(file), "file");
+        SimulationResult r = result_from_file(preset, plan, std::move(file), "file");
         times.emplace_back("pattern_load", step.seconds());
         return r;
     }
-    const std::string key = options.use_cache ? simulation_key(preset) : std::string();
+    const std::string key = options.use_cache ? simulation_key(preset, plan) : std::string();
     const fs::path cached = options.use_cache ? cache_file(key) : fs::path();
     if (!cached.empty() && fs::is_regular_file(cached)) {
         try {
@@ -230,7 +233,7 @@ SimulationResult obtain_simulation(const io::Preset& preset, const PatternOption
             const Json* b = file.header.find("build");
             if (k && b && k->as_string() == key && b->as_string() == build_id()) {
                 log::info("reusing the cached pattern ", cached.string(), " (only post/bake keys differ)");
-                SimulationResult r = result_from_file(preset, std::move(file), "cache");
+                SimulationResult r = result_from_file(preset, plan, std::move(file), "cache");
                 times.emplace_back("pattern_load", step.seconds());
                 return r;
             }
@@ -238,7 +241,7 @@ SimulationResult obtain_simulation(const io::Preset& preset, const PatternOption
             log::debug("ignoring an unreadable cached pattern: ", e.what());
         }
     }
-    SimulationResult r = run_simulation(preset, times);
+    SimulationResult r = run_simulation(preset, plan, times);
     r.pattern_source = "simulated";
     if (options.use_cache) cache_store(preset, r);
     return r;

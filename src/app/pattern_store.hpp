@@ -28,7 +28,7 @@ struct PatternOptions {
 std::filesystem::path cache_dir();
 
 /// The text the cache keys on (one "key = value" line per simulation-relevant value).
-std::string simulation_key(const io::Preset& preset);
+std::string simulation_key(const io::Preset& preset, const RunPlan& plan);
 
 /// This build of crackle (a hash of the running executable): patterns from any other build are
 /// never served from the cache.
@@ -45,6 +45,7 @@ void cache_store(const io::Preset& preset, const SimulationResult& result);
 /// The simulation a bake or export works from: the pattern file when given, else the cache's
 /// pattern for this preset when there is one, else a fresh simulation (stored in the cache).
 /// result.pattern_source says which.
-SimulationResult obtain_simulation(const io::Preset& preset, const PatternOptions& options, StepTimes& times);
+SimulationResult obtain_simulation(const io::Preset& preset, const RunPlan& plan, const PatternOptions& options,
+                                   StepTimes& times);
 
 } // namespace crackle::app

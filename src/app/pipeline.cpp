@@ -2,17 +2,17 @@
 
 #include "core/timer.hpp"
 #include "fracture/method.hpp"
-#include "io/resolution.hpp"
 
 #include <cmath>
 #include <filesystem>
 
 namespace crackle::app {
 
-SimulationResult run_simulation(const io::Preset& preset, StepTimes& times) {
+SimulationResult run_simulation(const io::Preset& preset, const RunPlan& plan, StepTimes& times) {
     SimulationResult r;
+    r.plan = plan;
     Timer step;
-    r.scene = make_scene(preset);
+    r.scene = make_scene(preset, plan);
     times.emplace_back("preset", step.seconds());
     const Scene& scene = *r.scene;
     fracture::MethodInputs in{scene.surface,
@@ -40,18 +40,16 @@ SimulationResult run_simulation(const io::Preset& preset, StepTimes& times) {
     return r;
 }
 
-std::vector<ProgressStage> progress_stages(const io::Preset& preset, bool bake) {
+std::vector<ProgressStage> progress_stages(const RunPlan& plan, bool bake) {
     // Seconds on two cores, from `crackle bake` of bark, mud and fruit (2222, 5000 and 6980
     // elements, 2048 px): setup 0.6–0.8 s; fracture 1.8, 28 and 5.2 s (the cost per element
     // varies 8× between scenes, so this is the roughest); post 0.1–0.3 s; bake 1.6–2.2 µs and
     // encode 0.6–0.8 µs per pixel.
-    const double n = static_cast<double>(io::element_count(preset).elements);
+    const double n = static_cast<double>(plan.elements.elements);
     std::vector<ProgressStage> stages = {
         {"setup", 0.3 + 1e-4 * n}, {"fracture", 2e-5 * std::pow(n, 1.5)}, {"post", 0.05 + 3e-5 * n}};
     if (bake) {
-        const double size = static_cast<double>(preset.integer("bake.size"));
-        const double rows = static_cast<double>(preset.integer("bake.size_v"));
-        const double pixels = size * (rows > 0 ? rows : size);
+        const double pixels = plan.map.pixels();
         stages.push_back({"bake", 2e-6 * pixels});
         stages.push_back({"encode", 0.7e-6 * pixels});
     }

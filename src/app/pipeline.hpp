@@ -16,6 +16,7 @@
 namespace crackle::app {
 
 struct SimulationResult {
+    RunPlan plan; ///< what the run was planned with (its element count, its maps' size)
     std::unique_ptr<Scene> scene;
     fracture::CrackPattern pattern;
     fracture::PatternStatistics statistics;
@@ -28,11 +29,11 @@ struct SimulationResult {
 
 /// Builds the scene and runs the preset's fracture method (fracture::make_method); appends
 /// wall times ("preset", "sampling", "triangulation", "assembly", "fracture", ...) to `times`.
-SimulationResult run_simulation(const io::Preset& preset, StepTimes& times);
+SimulationResult run_simulation(const io::Preset& preset, const RunPlan& plan, StepTimes& times);
 
 /// The stages of a run for the progress report (ProgressPlan), weighted by rough wall times
 /// from the element count and the map size: setup, fracture, post, then with `bake` the maps
 /// (bake, encode), and write. Never changes a result.
-std::vector<ProgressStage> progress_stages(const io::Preset& preset, bool bake);
+std::vector<ProgressStage> progress_stages(const RunPlan& plan, bool bake);
 
 } // namespace crackle::app

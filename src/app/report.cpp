@@ -53,11 +53,11 @@ std::string fmt(const char* format, double v) {
     return buf;
 }
 
-Json resolved_settings(const io::Preset& preset) {
+Json resolved_settings(const io::Preset& preset, const RunPlan& plan) {
     Json settings = Json::object();
     for (const auto& [key, entry] : preset.values())
         settings[key] = key == "simulation.elements" && preset.is_auto(key)
-                            ? Json(static_cast<long long>(io::element_count(preset).elements))
+                            ? Json(static_cast<long long>(plan.elements.elements))
                             : value_json(entry.value);
     return settings;
 }
@@ -72,8 +72,7 @@ Json simulation_report(const io::Preset& preset, const SimulationResult& r, cons
     report["method"] = r.pattern.method;
     report["seed"] = static_cast<long long>(r.scene->seed);
     report["elements_initial"] = r.elements_initial;
-    if (const io::ElementCount count = io::element_count(preset); count.automatic)
-        report["elements_rule"] = "auto: " + count.reason;
+    if (r.plan.elements.automatic) report["elements_rule"] = "auto: " + r.plan.elements.reason;
     report["elements_final"] = r.elements_final;
     report["nodes"] = r.nodes;
     report["fracture_events"] = r.pattern.events.size();
@@ -121,7 +120,7 @@ Json simulation_report(const io::Preset& preset, const SimulationResult& r, cons
     for (const auto& e : r.pattern.events)
         if (first < 0 || e.time < first) first = e.time;
     report["first_event_time"] = first; // −1 when nothing broke
-    report["settings"] = resolved_settings(preset);
+    report["settings"] = resolved_settings(preset, r.plan);
     return report;
 }
 

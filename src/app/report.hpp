@@ -22,8 +22,9 @@ std::string fmt(const char* format, double v);
 /// pattern came from.
 Json simulation_report(const io::Preset& preset, const SimulationResult& r, const StepTimes& times);
 
-/// The preset's resolved values as JSON, key → value.
-Json resolved_settings(const io::Preset& preset);
+/// The preset's resolved values as JSON, key → value (simulation.elements = "auto" as the
+/// plan's count).
+Json resolved_settings(const io::Preset& preset, const RunPlan& plan);
 
 void print_times(std::ostream& out, const StepTimes& times);
 void print_simulation(std::ostream& out, const io::Preset& preset, const SimulationResult& r);

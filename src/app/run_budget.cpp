@@ -2,7 +2,6 @@
 
 #include "app/pipeline.hpp"
 #include "core/log.hpp"
-#include "io/resolution.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -31,20 +30,18 @@ double bytes_per_element(const io::Preset& preset) {
 
 } // namespace
 
-RunEstimate estimate_run(const io::Preset& preset, bool bake) {
+RunEstimate estimate_run(const io::Preset& preset, const RunPlan& plan, bool bake) {
     RunEstimate e;
-    for (const ProgressStage& stage : progress_stages(preset, bake))
+    for (const ProgressStage& stage : progress_stages(plan, bake))
         e.seconds += stage.weight;
-    const double elements = static_cast<double>(io::element_count(preset).elements);
+    const double elements = static_cast<double>(plan.elements.elements);
     const double simulation = elements * bytes_per_element(preset);
     double maps = 0;
     if (bake) {
         // 2235 MB for a 4096² mud bake and 309 MB at 1024² (`/usr/bin/time -f %M crackle -q bake
         // mud --size N`): about 123 bytes a pixel for the maps, their 16-bit copies, the GL targets
         // and the encoder.
-        const double size = static_cast<double>(preset.integer("bake.size"));
-        const double rows = static_cast<double>(preset.integer("bake.size_v"));
-        maps = 140.0 * size * (rows > 0 ? rows : size);
+        maps = 140.0 * plan.map.pixels();
     }
     // The process itself: 64 MiB (`crackle simulate` of 2000 elements peaks at 73 MiB), and 48 MiB
     // more for a bake's GL driver (a 64² bake of a few hundred elements peaks at 105–126 MiB;
@@ -54,8 +51,8 @@ RunEstimate estimate_run(const io::Preset& preset, bool bake) {
     return e;
 }
 
-RunBudget::RunBudget(const io::Preset& preset, bool bake, const std::string& what)
-    : m_estimate(estimate_run(preset, bake)) {
+RunBudget::RunBudget(const io::Preset& preset, const RunPlan& plan, bool bake, const std::string& what)
+    : m_estimate(estimate_run(preset, plan, bake)) {
     const BudgetLimits& limits = budget_limits();
     const double budget = static_cast<double>(memory_budget_bytes());
     const std::string need = format_bytes(m_estimate.bytes);

@@ -4,6 +4,7 @@
 /// fit the budget, a warning when the run is long or outgrows --max-time, and the BudgetScope
 /// that holds the run to its budget (core/budget.hpp).
 
+#include "app/run_plan.hpp"
 #include "core/budget.hpp"
 #include "io/preset.hpp"
 
@@ -19,7 +20,7 @@ struct RunEstimate {
     std::string memory_key; ///< the key that dominates the memory: "bake.size" or "simulation.elements"
 };
 
-RunEstimate estimate_run(const io::Preset& preset, bool bake);
+RunEstimate estimate_run(const io::Preset& preset, const RunPlan& plan, bool bake);
 
 /// Checks a run against the budget before any work and then watches it: refuses (InputError,
 /// exit 2) a run whose estimated memory passes the memory budget; warns when the estimate is
@@ -27,7 +28,7 @@ RunEstimate estimate_run(const io::Preset& preset, bool bake);
 class RunBudget {
 public:
     /// @param what  for messages: "simulation of mud", "bake of mud (seed 3)"
-    RunBudget(const io::Preset& preset, bool bake, const std::string& what);
+    RunBudget(const io::Preset& preset, const RunPlan& plan, bool bake, const std::string& what);
 
     const RunEstimate& estimate() const { return m_estimate; }
 

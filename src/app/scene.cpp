@@ -1,15 +1,12 @@
 #include "app/scene.hpp"
 
-#include "core/error.hpp"
 #include "core/log.hpp"
-#include "fracture/method.hpp"
-#include "io/resolution.hpp"
 
 #include <cstdio>
 
 namespace crackle::app {
 
-std::unique_ptr<Scene> make_scene(const io::Preset& preset) {
+std::unique_ptr<Scene> make_scene(const io::Preset& preset, const RunPlan& plan) {
     const mesh::Surface surface(surface_options(preset));
     const auto seed = static_cast<std::uint64_t>(preset.integer("simulation.seed"));
     const auto& thickness = preset.numbers("material.thickness");
@@ -31,7 +28,7 @@ std::unique_ptr<Scene> make_scene(const io::Preset& preset) {
         preset.text("simulation.density") == "thickness",
         seed,
     });
-    scene->discretize.elements = static_cast<std::size_t>(io::element_count(preset).elements);
+    scene->discretize.elements = static_cast<std::size_t>(plan.elements.elements);
     scene->discretize.sampling.jitter = preset.number("simulation.jitter");
     scene->discretize.sampling.max_iterations = static_cast<int>(preset.integer("simulation.repulsion_iterations"));
     return scene;
@@ -74,20 +71,6 @@ mesh::SurfaceMesh discretize_scene(const Scene& scene, StepTimes* times) {
 
 sim::LayerFields layer_fields(const Scene& scene) {
     return {&scene.thickness, &scene.young_modulus, &scene.threshold_stress, &scene.toughness, scene.poisson_ratio};
-}
-
-void require_available_method(const io::Preset& preset) {
-    const std::string& method = preset.text("simulation.method");
-    const fracture::MethodInfo* info = fracture::find_method(method);
-    if (info && info->available) return;
-    std::vector<std::string> names;
-    for (const fracture::MethodInfo& m : fracture::methods())
-        if (m.available) names.push_back("\"" + m.name + "\"");
-    std::string available;
-    for (std::size_t i = 0; i < names.size(); ++i)
-        available += (i == 0 ? "" : i + 1 == names.size() ? " or " : ", ") + names[i];
-    throw InputError(preset.entry("simulation.method").source.text(),
-                     "simulation.method = \"" + method + "\" is not available in this version", "use " + available);
 }
 
 } // namespace crackle::app

@@ -3,6 +3,7 @@
 /// material shrinkage and property fields, and the discretization options.
 
 #include "app/options.hpp"
+#include "app/run_plan.hpp"
 #include "io/preset.hpp"
 #include "mesh/discretize.hpp"
 #include "mesh/surface.hpp"
@@ -29,17 +30,14 @@ struct Scene {
     std::uint64_t seed = 1;
 };
 
-/// Builds every typed input; throws InputError (e.g. an unreadable image).
-std::unique_ptr<Scene> make_scene(const io::Preset& preset);
+/// Builds every typed input, the element count from the plan; throws InputError (e.g. an
+/// unreadable image).
+std::unique_ptr<Scene> make_scene(const io::Preset& preset, const RunPlan& plan);
 
 /// Discretizes the scene's surface (§5.2), density following thickness when asked.
 mesh::SurfaceMesh discretize_scene(const Scene& scene, StepTimes* times);
 
 /// The scene's layer fields for the FEM model (pointers into `scene`).
 sim::LayerFields layer_fields(const Scene& scene);
-
-/// Throws InputError (naming the preset line) when simulation.method is not available
-/// (fracture::methods() lists which are).
-void require_available_method(const io::Preset& preset);
 
 } // namespace crackle::app

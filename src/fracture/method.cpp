@@ -37,8 +37,7 @@ std::vector<std::string> method_names() {
 std::unique_ptr<Method> make_method(const Settings& settings) {
     const std::string& name = settings.text("simulation.method");
     const MethodInfo* info = find_method(name);
-    if (!info || !info->available || !info->make)
-        throw InputError("simulation.method = \"" + name + "\" is not available in this version");
+    if (!info || !info->make) throw InputError("simulation.method = \"" + name + "\" is not available in this version");
     return info->make(settings);
 }
 

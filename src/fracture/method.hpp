@@ -61,7 +61,6 @@ public:
 struct MethodInfo {
     std::string name;        ///< simulation.method value: "fem-split"
     std::string description; ///< a sentence for the schema's reference of simulation.method
-    bool available = true;   ///< false: known, refused with a reason (exit 2)
     /// Its own [simulation] keys (group = name): the schema lists them under the method.
     std::vector<KeySpec> keys;
     /// Maps the settings to its typed options and makes the method.
@@ -74,7 +73,7 @@ const std::vector<MethodInfo>& methods();
 const MethodInfo* find_method(const std::string& name);
 std::vector<std::string> method_names();
 /// The method the settings name (simulation.method), its options mapped from them. Throws
-/// InputError for an unavailable one (the app checks first, naming the preset line).
+/// InputError for a name no method has (the preset schema refuses those first, naming the line).
 std::unique_ptr<Method> make_method(const Settings& settings);
 
 } // namespace crackle::fracture

@@ -19,6 +19,24 @@ double surface_area(const Settings& s) {
     return size[0] * (size.size() > 1 ? size[1] : size[0]);
 }
 
+Vec2 texture_tile(const Settings& s) {
+    const auto& size = s.numbers("surface.size");
+    if (s.text("surface.kind") == "sphere") return Vec2(TWO_PI * size[0], PI * size[0]);
+    return Vec2(size[0], size.size() > 1 ? size[1] : size[0]);
+}
+
+MapSize map_size(const Settings& s) {
+    return map_size(s, texture_tile(s));
+}
+
+MapSize map_size(const Settings& s, const Vec2& tile) {
+    const int size = static_cast<int>(s.integer("bake.size")), rows = static_cast<int>(s.integer("bake.size_v"));
+    if (rows > 0) return {size, rows};
+    const double aspect = tile.y() / std::max(tile.x(), 1e-300); // v over u
+    if (aspect <= 1.0) return {size, std::max(1, static_cast<int>(std::lround(size * aspect)))};
+    return {std::max(1, static_cast<int>(std::lround(size / aspect))), size};
+}
+
 std::int64_t minimum_elements(const Settings& s) {
     const std::string& kind = s.text("surface.kind");
     if (kind == "plane") return 0;
@@ -50,8 +68,8 @@ ElementCount element_count(const Settings& s, bool preview) {
     const ResolutionRule& rule = resolution_rule();
     const double h = resolving_thickness(s), area = surface_area(s);
     const double q = preview ? rule.preview_elements_per_thickness_squared : s.number("simulation.elements_per_h2");
-    const double pixels = sqr(double(s.integer("bake.size")));
-    const double cap = pixels / rule.pixels_per_element;
+    const MapSize map = map_size(s);
+    const double cap = map.pixels() / rule.pixels_per_element;
     ElementCount out;
     if (!s.is_auto("simulation.elements")) {
         out.elements = s.integer("simulation.elements");
@@ -64,10 +82,12 @@ ElementCount element_count(const Settings& s, bool preview) {
     char buf[320];
     int len = std::snprintf(buf, sizeof buf, "%s%.3g elements per h² over %.3g m² (h = %.3g m) = %.0f",
                             preview ? "preview: " : "", q, area, h, wanted);
-    if (wanted > cap && n < wanted)
-        len += std::snprintf(buf + len, sizeof buf - std::size_t(len), ", capped at %lld for a %lld px texture",
-                             static_cast<long long>(count), static_cast<long long>(s.integer("bake.size")));
-    else if (n > wanted)
+    if (wanted > cap && n < wanted) {
+        len += std::snprintf(buf + len, sizeof buf - std::size_t(len), ", capped at %lld for a %d",
+                             static_cast<long long>(count), map.width);
+        if (map.height != map.width) len += std::snprintf(buf + len, sizeof buf - std::size_t(len), "x%d", map.height);
+        len += std::snprintf(buf + len, sizeof buf - std::size_t(len), " px texture");
+    } else if (n > wanted)
         std::snprintf(buf + len, sizeof buf - std::size_t(len), ", raised to %lld (%s)", static_cast<long long>(count),
                       floor > double(rule.min_elements) ? "the curved surface's minimum" : "the smallest model");
     if (out.elements > 0 && out.elements <= count) return out; // an explicit count already coarser

@@ -4,6 +4,7 @@
 /// convergence table, docs/benchmarks.md "Model no more than a scene needs"), capped by what the
 /// texture can show, and never below what a curved surface needs to stay valid.
 
+#include "core/math.hpp"
 #include "core/settings.hpp"
 
 #include <cstdint>
@@ -40,8 +41,26 @@ double surface_area(const Settings& s);
 /// The fewest elements a curved surface needs (about six triangles around); 0 on the plane.
 std::int64_t minimum_elements(const Settings& s);
 
-/// simulation.elements resolved: the number itself, or the auto rule for `bake.size` pixels
-/// per side. `preview` = the preview's coarser rule (applied to explicit counts too: min).
+/// A baked map's pixels.
+struct MapSize {
+    int width = 0;
+    int height = 0;
+    double pixels() const { return static_cast<double>(width) * static_cast<double>(height); }
+};
+
+/// The surface's texture tile in metres (u, v): the plane's and the cylinder's surface.size, the
+/// sphere's 2πR × πR.
+Vec2 texture_tile(const Settings& s);
+
+/// The maps' pixels for bake.size and bake.size_v: bake.size is the longer side and the other
+/// follows the texture tile (square texels), unless bake.size_v > 0 gives it. The one place a
+/// map size is worked out (issue 29); `tile` is the preset's (texture_tile) or, for a pattern
+/// loaded from a file, its pieces'.
+MapSize map_size(const Settings& s, const Vec2& tile);
+MapSize map_size(const Settings& s);
+
+/// simulation.elements resolved: the number itself, or the auto rule for the map's pixels
+/// (map_size). `preview` = the preview's coarser rule (applied to explicit counts too: min).
 ElementCount element_count(const Settings& s, bool preview = false);
 
 } // namespace crackle::io

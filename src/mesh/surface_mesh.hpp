@@ -62,7 +62,6 @@ public:
     /// Vertices that lost all their faces keep a stale vertex→face link (nothing asks for it).
     void update_adjacency(const std::vector<FaceId>& changed);
     const FaceNeighbor& neighbor(FaceId f, int edge) const { return m_neighbors[f][edge]; }
-    FaceId vertex_face(VertexId v) const { return m_vertex_face[v]; }
     /// Faces around a vertex (one per incident corner; a face can repeat on tiny tori).
     std::vector<FaceId> vertex_faces(VertexId v) const;
     std::size_t num_edges() const { return m_num_edges; }

@@ -121,7 +121,7 @@ PieceMesh build_pieces(const fracture::CrackPattern& p, const PostOptions& o) {
     PieceMesh out;
     out.kind = surface.kind();
     out.periodic = surface.periodic();
-    out.tile_size = surface.periodic() ? surface.period() : Vec2(TWO_PI * surface.radius(), PI * surface.radius());
+    out.tile_size = surface.period(); // the sphere's is 2πR × πR (mesh::Surface)
     out.fragments = p.num_fragments;
     out.post_curl = o.curl;
     out.post_curl_width = o.curl_width;

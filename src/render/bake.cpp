@@ -10,13 +10,6 @@
 
 namespace crackle::render {
 
-std::pair<int, int> map_pixels(const post::PieceMesh& pieces, int size, int rows) {
-    if (rows > 0) return {size, rows};
-    const double aspect = pieces.tile_size.y() / std::max(pieces.tile_size.x(), 1e-300); // v over u
-    if (aspect <= 1.0) return {size, std::max(1, static_cast<int>(std::lround(size * aspect)))};
-    return {std::max(1, static_cast<int>(std::lround(size / aspect))), size};
-}
-
 TextureSet bake(const post::PieceMesh& pieces, const BakeOptions& o, GlContext& context) {
     Timer timer;
     RasterOptions raster;

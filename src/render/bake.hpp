@@ -32,10 +32,6 @@ struct BakeOptions {
     std::string shader_dir; ///< read shaders from here instead of the embedded copies
 };
 
-/// Texture pixels for a requested size: `size` is the longer side, the other follows the
-/// surface's shape in metres (square texels; the sphere is 2:1), unless `rows` > 0 gives it.
-std::pair<int, int> map_pixels(const post::PieceMesh& pieces, int size, int rows);
-
 TextureSet bake(const post::PieceMesh& pieces, const BakeOptions& options, GlContext& context);
 
 } // namespace crackle::render

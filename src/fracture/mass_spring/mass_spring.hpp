@@ -93,8 +93,6 @@ public:
     };
     State state() const { return {m_time, m_x, m_anchor0}; }
     void restore(const State& s);
-    /// Where vertex v's anchor is now (it follows the background, and slides, §4.1).
-    Vec3 anchor_position(std::size_t v) const { return anchor(v, m_time); }
     /// Newton's method with a line search to the nonlinear equilibrium; slides anchors that
     /// are over-stretched and relaxes again. Throws NumericError (iterations, residual, time)
     /// when it fails to converge or meets NaN.

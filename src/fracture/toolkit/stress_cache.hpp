@@ -116,13 +116,6 @@ public:
     double ratio(std::size_t f) const { return m_ratio[f]; }
     const sim::TopStress& stress(std::size_t f) const { return m_s0[f]; }
     const sim::TopStress& rate(std::size_t f) const { return m_rate[f]; }
-    /// Takes another cache's values (a snapshot of the same model).
-    void assign_from(const StressCache& other) {
-        m_s0 = other.m_s0;
-        m_rate = other.m_rate;
-        m_ratio = other.m_ratio;
-    }
-
     /// (lower bound of the time until the element can reach its threshold, element), sorted.
     std::vector<std::pair<double, std::size_t>> earliest_crossings() const {
         auto frobenius = [](const sim::wedge::Vec6& v) {

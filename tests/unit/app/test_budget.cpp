@@ -171,11 +171,14 @@ TEST_SUITE("app") {
         CHECK(!fs::exists(dir / "r.json"));
         // The estimate grows with what costs memory: layers of a mass-spring lattice, pixels.
         io::PresetRequest req{"mud", {"simulation.method=\"mass-spring\"", "simulation.elements=32000"}};
-        const double one = app::estimate_run(io::load_preset(req), false).bytes;
+        auto estimate = [](const io::Preset& p, bool bake) {
+            return app::estimate_run(p, app::make_run_plan(p), bake);
+        };
+        const double one = estimate(io::load_preset(req), false).bytes;
         req.overrides.push_back("simulation.layers=4");
-        CHECK(app::estimate_run(io::load_preset(req), false).bytes > 5 * one);
+        CHECK(estimate(io::load_preset(req), false).bytes > 5 * one);
         const io::Preset mud = io::load_preset({"mud", {}});
-        CHECK(app::estimate_run(mud, true).bytes > app::estimate_run(mud, false).bytes);
+        CHECK(estimate(mud, true).bytes > estimate(mud, false).bytes);
         // An unreadable size is a usage error.
         r = run_cli({"--max-memory", "lots", "simulate", "mud"});
         CHECK(r.code == 2);

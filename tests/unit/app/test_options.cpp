@@ -120,7 +120,7 @@ TEST_SUITE("app") {
                 REQUIRE(spec != nullptr);
                 CHECK(spec->group == m.name);
             }
-            CHECK(m.available == bool(m.make));
+            CHECK(bool(m.make));
         }
         const KeySpec* method = io::find_key("simulation.method");
         REQUIRE(method != nullptr);

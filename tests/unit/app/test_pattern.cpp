@@ -210,7 +210,8 @@ TEST_SUITE("app") {
             io::PresetRequest request;
             request.name_or_path = "mud";
             request.overrides = std::move(overrides);
-            return app::simulation_key(io::load_preset(request));
+            const io::Preset preset = io::load_preset(request);
+            return app::simulation_key(preset, app::make_run_plan(preset));
         };
         const std::string base = key({"simulation.elements=\"auto\"", "bake.size=64"});
         CHECK(key({"simulation.elements=\"auto\"", "bake.size=64", "bake.color=[0.1,0.1,0.1]", "post.curl=1.0"})

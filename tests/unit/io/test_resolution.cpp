@@ -86,6 +86,28 @@ TEST_SUITE("io") {
         CHECK(io::element_count(load("mud", {"simulation.elements=500"}), true).elements == 500);
     }
 
+    TEST_CASE("resolution: one rule gives the maps' pixels, and the texture cap counts those pixels") {
+        // bake.size is the longer side; the other follows the tile in metres, unless size_v gives it.
+        auto map = [](const std::string& preset, std::vector<std::string> overrides) {
+            const io::MapSize m = io::map_size(load(preset, overrides));
+            return std::pair{m.width, m.height};
+        };
+        CHECK(map("mud", {"bake.size=512"}) == std::pair{512, 512});
+        CHECK(map("fruit", {"bake.size=512"}) == std::pair{512, 256}); // the sphere's tile is 2πR × πR
+        CHECK(map("mud", {"bake.size=512", "surface.size=[0.5,1.0]"}) == std::pair{256, 512});
+        CHECK(map("mud", {"bake.size=512", "surface.size=[0.75,0.25]"}) == std::pair{512, 171});
+        CHECK(map("fruit", {"bake.size=512", "bake.size_v=300"}) == std::pair{512, 300});
+        // The cap is one element per 8 of those pixels: a 2:1 map holds half a square's elements
+        // (until 2026-12-07 the cap read bake.size² and ignored the map's shape and size_v).
+        const double per_pixel = io::resolution_rule().pixels_per_element;
+        const io::Preset sphere = load("fruit", {"simulation.elements=auto", "bake.size=256"});
+        const io::ElementCount capped = io::element_count(sphere);
+        CHECK(capped.elements == std::llround(256.0 * 128.0 / per_pixel));
+        CHECK(capped.reason.find("capped at 4096 for a 256x128 px texture") != std::string::npos);
+        const io::Preset rows = load("mud", {"simulation.elements=auto", "material.thickness=[0.002,0.002]",
+                                             "surface.size=[1.0,1.0]", "bake.size=256", "bake.size_v=64"});
+        CHECK(io::element_count(rows).elements == std::llround(256.0 * 64.0 / per_pixel));
+    }
     TEST_CASE("resolution: simulation.elements reads auto in TOML and --set, and refuses other words") {
         CHECK(load("mud", {"simulation.elements=auto"}).is_auto("simulation.elements"));
         CHECK(load("mud", {"simulation.elements=\"auto\""}).is_auto("simulation.elements"));
