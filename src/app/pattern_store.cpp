@@ -151,7 +151,7 @@ std::string simulation_key(const io::Preset& preset, const RunPlan& plan) {
     for (const auto& [name, entry] : preset.values()) {
         if (!simulation_relevant(name)) continue;
         if (name == "simulation.elements") {
-            // "auto" follows bake.size: the key holds the count the simulation will use.
+            // "auto" follows the map size: the key holds the count the simulation will use (the plan's).
             key += name + " = " + std::to_string(plan.elements.elements) + "\n";
             continue;
         }
