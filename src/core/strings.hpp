@@ -1,5 +1,5 @@
 #pragma once
-/// @file String helpers for messages: "did you mean" suggestions.
+/// @file String helpers for messages: "did you mean" suggestions, lists.
 
 #include <cstdint>
 #include <string>
@@ -16,6 +16,9 @@ std::string closest_match(std::string_view word, const std::vector<std::string>&
 
 /// Splits at every `separator` (an empty text gives no parts; "a,,b" gives "a", "", "b").
 std::vector<std::string> split(std::string_view text, char separator);
+
+/// The parts with `separator` between them: join({"a", "b"}, ", ") = "a, b".
+std::string join(const std::vector<std::string>& parts, std::string_view separator);
 
 /// Without leading and trailing spaces and tabs.
 std::string trim(std::string_view text);

@@ -2,6 +2,8 @@
 
 #include "core/error.hpp"
 
+#include <stdexcept>
+
 namespace crackle::fracture {
 
 // Each method's folder provides its entry (method.cpp there).
@@ -10,8 +12,10 @@ MethodInfo fem_remove_method();
 MethodInfo mass_spring_method();
 MethodInfo graph_fem_method();
 
-const std::vector<MethodInfo>& methods() {
-    static const std::vector<MethodInfo> all = [] {
+namespace {
+
+std::vector<MethodInfo>& registry() {
+    static std::vector<MethodInfo> all = [] {
         std::vector<MethodInfo> v{fem_split_method(), fem_remove_method(), mass_spring_method(), graph_fem_method()};
         for (MethodInfo& m : v)
             for (KeySpec& k : m.keys)
@@ -19,6 +23,31 @@ const std::vector<MethodInfo>& methods() {
         return v;
     }();
     return all;
+}
+
+int generation = 0;
+
+} // namespace
+
+const std::vector<MethodInfo>& methods() {
+    return registry();
+}
+
+int methods_generation() {
+    return generation;
+}
+
+ScopedMethod::ScopedMethod(MethodInfo info) : m_name(info.name) {
+    if (find_method(m_name)) throw std::logic_error("method " + m_name + " is registered twice");
+    for (KeySpec& k : info.keys)
+        k.group = info.name;
+    registry().push_back(std::move(info));
+    ++generation;
+}
+
+ScopedMethod::~ScopedMethod() {
+    std::erase_if(registry(), [&](const MethodInfo& m) { return m.name == m_name; });
+    ++generation;
 }
 
 const MethodInfo* find_method(const std::string& name) {

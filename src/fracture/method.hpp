@@ -2,8 +2,9 @@
 /// @file The fracture stage as one interface: what every method starts from (the grown surface,
 /// its layer, the common loop options), what it returns (the crack-pattern contract, common
 /// counters, its own named details), and the registry the app, the preset schema, `presets
-/// doc`, the bench and the tests read. A method is one folder: its loop, its [simulation] keys,
-/// and the mapping from them to its typed options (its `method_info()`, listed in method.cpp).
+/// doc`, the run budget, the preview, the study and the tests read. A method is one folder: its
+/// loop, its [simulation] keys, the mapping from them to its typed options, its memory figure, its
+/// preview reduction and its study variants (its `method_info()`, listed in method.cpp).
 
 #include "core/json.hpp"
 #include "core/settings.hpp"
@@ -58,6 +59,14 @@ public:
     virtual MethodResult run(const MethodInputs& inputs, StepTimes& times) = 0;
 };
 
+/// One variant of a method that the speed-vs-accuracy study charts (`crackle bench study`).
+struct StudyVariant {
+    std::string name;                   ///< "fem-split-tip"
+    std::vector<std::string> overrides; ///< preset overrides after simulation.method = the method
+    double cost = 1.0;                  ///< time per element against fem-split's (the progress weight)
+    long long max_elements = 0;         ///< the largest element count the full study affords; 0 = all
+};
+
 struct MethodInfo {
     std::string name;        ///< simulation.method value: "fem-split"
     std::string description; ///< a sentence for the schema's reference of simulation.method
@@ -65,10 +74,32 @@ struct MethodInfo {
     std::vector<KeySpec> keys;
     /// Maps the settings to its typed options and makes the method.
     std::function<std::unique_ptr<Method>(const Settings&)> make;
+    /// Peak bytes per initial element at these settings, for the run budget (measured; the method's
+    /// method.cpp says how).
+    std::function<double(const Settings&)> bytes_per_element;
+    /// What `bake --preview` switches off for a quick look (besides the preview's element count).
+    std::vector<std::string> preview_overrides;
+    /// Its variants in the speed-vs-accuracy study, in chart order.
+    std::vector<StudyVariant> study;
 };
 
 /// Every method, in documentation order.
 const std::vector<MethodInfo>& methods();
+/// Bumped by every registration: what caches the registry (the preset schema) rebuilds on it.
+int methods_generation();
+
+/// Adds a method for as long as it lives (tests register a method of their own; the built-in ones
+/// are listed in method.cpp). The name must be new.
+class ScopedMethod {
+public:
+    explicit ScopedMethod(MethodInfo info);
+    ~ScopedMethod();
+    ScopedMethod(const ScopedMethod&) = delete;
+    ScopedMethod& operator=(const ScopedMethod&) = delete;
+
+private:
+    std::string m_name;
+};
 /// The method of that name, or nullptr.
 const MethodInfo* find_method(const std::string& name);
 std::vector<std::string> method_names();

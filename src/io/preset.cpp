@@ -14,6 +14,7 @@
 #include <functional>
 #include <set>
 #include <sstream>
+#include <stdexcept>
 
 namespace crackle::io {
 
@@ -149,9 +150,7 @@ Source find_source(const std::string& name, const fs::path& relative_to, const S
         }
     }
     const std::vector<std::string> names = builtin_preset_names();
-    std::string list;
-    for (const auto& n : names)
-        list += (list.empty() ? "" : ", ") + n;
+    const std::string list = join(names, ", ");
     throw InputError(requested_at.file.empty() ? std::string("preset") : requested_at.text(),
                      "preset '" + name + "' not found" + did_you_mean(builtin, names),
                      "built-in presets: " + list + "; or give the path of a .toml file");
@@ -480,6 +479,22 @@ double pattern_spacing_per_thickness(const std::string& surface_kind) {
     if (surface_kind == "cylinder") return CYLINDER;
     if (surface_kind == "sphere") return SPHERE;
     return PLANE;
+}
+
+Preset with_overrides(const Preset& preset, const std::vector<std::string>& overrides) {
+    Values values = preset.values();
+    for (const std::string& o : overrides) {
+        const std::string key = o.substr(0, o.find('='));
+        if (key == "material.thickness" || key == "material.pattern_scale")
+            throw std::logic_error("with_overrides: " + key + " feeds material.pattern_scale; load the preset anew");
+        apply_override(o, values);
+    }
+    Preset changed;
+    changed.name = preset.name;
+    for (auto& [key, value] : values)
+        changed.set(key, std::move(value));
+    check_consistency(changed);
+    return changed;
 }
 
 Preset load_preset(const PresetRequest& request) {

@@ -63,6 +63,11 @@ struct PresetRequest {
 /// "<file>:<line>: <what> (<how to fix>)" on any problem.
 Preset load_preset(const PresetRequest& request);
 
+/// The loaded preset with more "section.key=value" overrides applied, checked as --set checks them
+/// (the preview's reduced model: no file is read again). Not for material.thickness or
+/// material.pattern_scale, which the loader derives one from the other.
+Preset with_overrides(const Preset& preset, const std::vector<std::string>& overrides);
+
 /// material.pattern_scale's calibration: the crack spacing ((2 − anisotropy) / crack density)
 /// per layer thickness measured on the default preset of a surface kind (plane: mud, cylinder:
 /// bark; docs/presets-library.md). A pattern scale s sets the mean thickness to s / ratio.

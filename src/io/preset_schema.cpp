@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <mutex>
 #include <sstream>
 
 namespace crackle::io {
@@ -283,7 +284,15 @@ std::vector<KeySpec> build_schema() {
 } // namespace
 
 const std::vector<KeySpec>& preset_schema() {
-    static const std::vector<KeySpec> schema = build_schema();
+    // Rebuilt when the method registry changes (a test's own method): its keys and its name.
+    static std::mutex mutex;
+    static std::vector<KeySpec> schema;
+    static int built_for = -1;
+    const std::lock_guard lock(mutex);
+    if (built_for != fracture::methods_generation()) {
+        schema = build_schema();
+        built_for = fracture::methods_generation();
+    }
     return schema;
 }
 

@@ -21,6 +21,7 @@ struct SurfaceOptions {
     SurfaceKind kind = SurfaceKind::Cylinder;
     /// plane: [width, height] m; cylinder: [circumference, height] m; sphere: [radius, unused] m
     Vec2 size = Vec2(0.5, 0.5);
+    bool operator==(const SurfaceOptions&) const = default; ///< every field: the options test compares whole structs
 };
 
 /// Local orthonormal frame at a surface point: e_u and e_v span the tangent plane

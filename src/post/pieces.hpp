@@ -26,6 +26,7 @@ struct PostOptions {
     double shrink_top = 0.0, shrink_bottom = 0.0;
     /// Radius of the rounding of crack lips (m); 0 = sharp.
     double bevel = 0.0;
+    bool operator==(const PostOptions&) const = default; ///< every field: the options test compares whole structs
 };
 
 /// A vertex of the piece mesh, with what baking (texture space) and export (world) need.

@@ -29,7 +29,8 @@ struct BakeOptions {
     double ao_radius = 0.0; ///< m; 0 = twice the layer's full height
     double ao_strength = 1.0;
     std::uint32_t seed = 1;
-    std::string shader_dir; ///< read shaders from here instead of the embedded copies
+    std::string shader_dir;                              ///< read shaders from here instead of the embedded copies
+    bool operator==(const BakeOptions&) const = default; ///< every field: the options test compares whole structs
 };
 
 TextureSet bake(const post::PieceMesh& pieces, const BakeOptions& options, GlContext& context);

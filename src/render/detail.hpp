@@ -12,9 +12,10 @@ namespace crackle::render {
 
 /// One tiling noise layer of micro-relief.
 struct DetailLayer {
-    double depth = 0;   ///< amplitude (m); 0 = off
-    double size = 0.01; ///< feature size (m) across u
-    double stretch = 1; ///< features this many times longer along v
+    double depth = 0;                                    ///< amplitude (m); 0 = off
+    double size = 0.01;                                  ///< feature size (m) across u
+    double stretch = 1;                                  ///< features this many times longer along v
+    bool operator==(const DetailLayer&) const = default; ///< every field: the options test compares whole structs
 };
 
 struct DetailOptions {

@@ -202,6 +202,100 @@ PixelGrid pixel_grid(const post::PieceMesh& pieces, int width, int height) {
     return g;
 }
 
+namespace {
+
+/// The periodic copies of the geometry a tile draws: all 9 neighbours on a torus, across the
+/// date line on the sphere, each only where it can reach the tile (interior tiles draw one copy
+/// instead of nine).
+class Copies {
+public:
+    Copies(const std::vector<GpuVertex>& triangles, bool periodic, double max_height) : m_max_height(max_height) {
+        for (int dv = -1; dv <= 1; ++dv)
+            for (int du = -1; du <= 1; ++du)
+                if (periodic || dv == 0) m_offsets.emplace_back(du, dv);
+        for (const GpuVertex& v : triangles) {
+            m_lo = m_lo.cwiseMin(Vec2(v.u, v.v));
+            m_hi = m_hi.cwiseMax(Vec2(v.u, v.v));
+        }
+    }
+
+    /// Makes `prog` current with the tile's uniforms and the offsets of the copies that reach
+    /// `window`; returns their count.
+    GLsizei use(const GlProgram& prog, const Eigen::Vector4d& window) const {
+        std::vector<float> copies;
+        for (const Vec2& off : m_offsets) {
+            if (m_hi.x() + off.x() < window[0] || m_lo.x() + off.x() > window[2] || m_hi.y() + off.y() < window[1]
+                || m_lo.y() + off.y() > window[3])
+                continue;
+            copies.push_back(static_cast<float>(off.x()));
+            copies.push_back(static_cast<float>(off.y()));
+        }
+        const auto count = static_cast<GLsizei>(copies.size() / 2);
+        copies.resize(18, 0.0f);
+        prog.use();
+        prog.set("u_tile", window);
+        prog.set("u_max_height", static_cast<float>(m_max_height * 1.001));
+        glUniform2fv(prog.uniform("u_offsets"), 9, copies.data());
+        return count;
+    }
+
+private:
+    std::vector<Vec2> m_offsets;
+    Vec2 m_lo = Vec2(1e30, 1e30), m_hi = Vec2(-1e30, -1e30);
+    double m_max_height;
+};
+
+/// A tile's place in the map: its corner and the pixels of it inside the map.
+struct Tile {
+    int x0, y0, w, h;
+};
+
+/// One tile's read-back pixels.
+struct TileBuffers {
+    std::vector<float> height, layers;
+    std::vector<std::uint8_t> rgba;
+};
+
+/// Reads a rendered tile back (the resolved height; the label target's ID colour and layers)
+/// into the full-size images.
+void read_tile(const GlTarget& source, const GlTarget& label_target, int tile, const Tile& t, int width, int height,
+               TileBuffers& buffers, RasterLayers& r, std::vector<float>& layers, std::vector<std::uint8_t>& rgba) {
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, source.fbo);
+    glReadBuffer(GL_COLOR_ATTACHMENT0);
+    glReadPixels(0, 0, tile, tile, GL_RED, GL_FLOAT, buffers.height.data());
+    place_tile(r.height, width, height, 1, buffers.height, tile, t.x0, t.y0, t.w, t.h);
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, label_target.fbo);
+    glReadBuffer(GL_COLOR_ATTACHMENT0);
+    glReadPixels(0, 0, tile, tile, GL_RGBA, GL_UNSIGNED_BYTE, buffers.rgba.data());
+    place_tile(rgba, width, height, 4, buffers.rgba, tile, t.x0, t.y0, t.w, t.h);
+    glReadBuffer(GL_COLOR_ATTACHMENT1);
+    glReadPixels(0, 0, tile, tile, GL_RGBA, GL_FLOAT, buffers.layers.data());
+    place_tile(layers, width, height, 4, buffers.layers, tile, t.x0, t.y0, t.w, t.h);
+}
+
+/// The label target's layers decoded per pixel: piece label, crack and lip flags, crack weight
+/// and age, the ID colour; `covered` where anything was drawn.
+void decode_layers(const std::vector<float>& layers, const std::vector<std::uint8_t>& rgba, int width, int height,
+                   std::vector<std::uint8_t>& covered, RasterLayers& r) {
+    parallel_rows(height, [&](int y) {
+        for (std::size_t i = std::size_t(y) * std::size_t(width), end = i + std::size_t(width); i < end; ++i) {
+            const float label = layers[4 * i];
+            covered[i] = label > -1.5f;
+            r.label[i] = label > -0.5f ? static_cast<std::int32_t>(std::lround(label)) : -1;
+            r.crack[i] = label < -0.5f || layers[4 * i + 1] > 0.5f;
+            r.lip[i] = layers[4 * i + 1] > 1.5f;
+            if (r.crack[i]) r.label[i] = -1;
+            r.weight[i] = layers[4 * i + 2];
+            r.age[i] = layers[4 * i + 3];
+            for (std::size_t c = 0; c < 3; ++c)
+                r.id[3 * i + c] = rgba[4 * i + c];
+        }
+    });
+}
+
+} // namespace
+
 RasterLayers rasterize(const post::PieceMesh& pieces, const RasterOptions& o, GlContext& context) {
     CRACKLE_ASSERT(o.width >= 1 && o.height >= 1 && std::max(o.width, o.height) <= context.max_texture_size(),
                    "texture size " << o.width << "×" << o.height << " out of range");
@@ -230,35 +324,7 @@ RasterLayers rasterize(const post::PieceMesh& pieces, const RasterOptions& o, Gl
                                   shader_source("id.frag", o.shader_dir), o.shader_dir, {"bake.vert", "id.frag"});
     const double max_height = std::max(pieces.max_height, 1e-6);
 
-    // Periodic copies: all 9 neighbours on a torus; across the date line on the sphere.
-    std::vector<Vec2> offsets;
-    for (int dv = -1; dv <= 1; ++dv)
-        for (int du = -1; du <= 1; ++du)
-            if (pieces.periodic || dv == 0) offsets.emplace_back(du, dv);
-    // Texture-space bounds of the geometry: a periodic copy is drawn into a tile only when it
-    // can reach it (interior tiles draw one copy instead of nine).
-    Vec2 lo(1e30, 1e30), hi(-1e30, -1e30);
-    for (const GpuVertex& v : triangles) {
-        lo = lo.cwiseMin(Vec2(v.u, v.v));
-        hi = hi.cwiseMax(Vec2(v.u, v.v));
-    }
-    auto setup = [&](const GlProgram& prog, const Eigen::Vector4d& window) {
-        std::vector<float> copies;
-        for (const Vec2& off : offsets) {
-            if (hi.x() + off.x() < window[0] || lo.x() + off.x() > window[2] || hi.y() + off.y() < window[1]
-                || lo.y() + off.y() > window[3])
-                continue;
-            copies.push_back(static_cast<float>(off.x()));
-            copies.push_back(static_cast<float>(off.y()));
-        }
-        const auto count = static_cast<GLsizei>(copies.size() / 2);
-        copies.resize(18, 0.0f);
-        prog.use();
-        prog.set("u_tile", window);
-        prog.set("u_max_height", static_cast<float>(max_height * 1.001));
-        glUniform2fv(prog.uniform("u_offsets"), 9, copies.data());
-        return count;
-    };
+    const Copies copies_of(triangles, pieces.periodic, max_height);
 
     // === Targets: the height (multisampled, resolved); the labels (one piece per pixel)
     GlTarget msaa({GL_R32F}, tile, samples, true);
@@ -275,8 +341,8 @@ RasterLayers rasterize(const post::PieceMesh& pieces, const RasterOptions& o, Gl
     const float clear_layers[4] = {-2, 1, 1, 1}; // label −2: nothing drawn here
 
     const auto tile_px = static_cast<std::size_t>(tile) * static_cast<std::size_t>(tile);
-    std::vector<float> tile_height(tile_px), tile_layers(4 * tile_px);
-    std::vector<std::uint8_t> tile_rgba(4 * tile_px);
+    TileBuffers buffers{std::vector<float>(tile_px), std::vector<float>(4 * tile_px),
+                        std::vector<std::uint8_t>(4 * tile_px)};
     std::vector<float> layers(4 * px, 0.0f);
     std::vector<std::uint8_t> rgba(4 * px, 0);
 
@@ -294,7 +360,7 @@ RasterLayers rasterize(const post::PieceMesh& pieces, const RasterOptions& o, Gl
             glClearBufferfv(GL_COLOR, 0, clear_height);
             glClear(GL_DEPTH_BUFFER_BIT);
             glEnable(GL_DEPTH_TEST);
-            GLsizei copies = setup(height_program, window);
+            GLsizei copies = copies_of.use(height_program, window);
             glBindVertexArray(triangle_buffer.vao);
             glDrawArraysInstanced(GL_TRIANGLES, 0, triangle_buffer.count, copies);
             const GlTarget& source = resolved ? *resolved : msaa;
@@ -309,7 +375,7 @@ RasterLayers rasterize(const post::PieceMesh& pieces, const RasterOptions& o, Gl
             glClearBufferfv(GL_COLOR, 0, clear_id);
             glClearBufferfv(GL_COLOR, 1, clear_layers);
             glClear(GL_DEPTH_BUFFER_BIT);
-            copies = setup(label_program, window);
+            copies = copies_of.use(label_program, window);
             label_program.set("u_seed", static_cast<unsigned>(o.seed));
             glDrawArraysInstanced(GL_TRIANGLES, 0, triangle_buffer.count, copies);
             glDisable(GL_DEPTH_TEST);
@@ -318,35 +384,11 @@ RasterLayers rasterize(const post::PieceMesh& pieces, const RasterOptions& o, Gl
 
             // --- Read back
             Timer read_timer;
-            glPixelStorei(GL_PACK_ALIGNMENT, 1);
-            glBindFramebuffer(GL_READ_FRAMEBUFFER, source.fbo);
-            glReadBuffer(GL_COLOR_ATTACHMENT0);
-            glReadPixels(0, 0, tile, tile, GL_RED, GL_FLOAT, tile_height.data());
-            place_tile(r.height, o.width, o.height, 1, tile_height, tile, x0, y0, w, h);
-            glBindFramebuffer(GL_READ_FRAMEBUFFER, label_target.fbo);
-            glReadBuffer(GL_COLOR_ATTACHMENT0);
-            glReadPixels(0, 0, tile, tile, GL_RGBA, GL_UNSIGNED_BYTE, tile_rgba.data());
-            place_tile(rgba, o.width, o.height, 4, tile_rgba, tile, x0, y0, w, h);
-            glReadBuffer(GL_COLOR_ATTACHMENT1);
-            glReadPixels(0, 0, tile, tile, GL_RGBA, GL_FLOAT, tile_layers.data());
-            place_tile(layers, o.width, o.height, 4, tile_layers, tile, x0, y0, w, h);
+            read_tile(source, label_target, tile, Tile{x0, y0, w, h}, o.width, o.height, buffers, r, layers, rgba);
             readback += read_timer.seconds();
             progress.update(ty * tiles_x + tx + 1);
         }
-    parallel_rows(o.height, [&](int y) {
-        for (std::size_t i = std::size_t(y) * std::size_t(o.width), end = i + std::size_t(o.width); i < end; ++i) {
-            const float label = layers[4 * i];
-            covered[i] = label > -1.5f;
-            r.label[i] = label > -0.5f ? static_cast<std::int32_t>(std::lround(label)) : -1;
-            r.crack[i] = label < -0.5f || layers[4 * i + 1] > 0.5f;
-            r.lip[i] = layers[4 * i + 1] > 1.5f;
-            if (r.crack[i]) r.label[i] = -1;
-            r.weight[i] = layers[4 * i + 2];
-            r.age[i] = layers[4 * i + 3];
-            for (std::size_t c = 0; c < 3; ++c)
-                r.id[3 * i + c] = rgba[4 * i + c];
-        }
-    });
+    decode_layers(layers, rgba, o.width, o.height, covered, r);
     if (!pieces.periodic) fill_pole_rows(r, covered);
     r.readback_seconds = readback;
     r.render_seconds = render_timer.seconds() - readback;

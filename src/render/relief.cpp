@@ -268,6 +268,39 @@ std::vector<float> smooth_plates(const PixelGrid& map, const PlateHeights& p, do
     return p.half ? upsample2(map, v) : v;
 }
 
+namespace {
+
+/// A plate pixel's drop towards the cracks: each weight class's groove (reach and depth from its
+/// weight, V-shaped or rounded by crack_shape) at the class's distance, combined smoothly.
+inline double combined_drop(const std::vector<std::vector<float>>& distance, const std::vector<double>& class_weight,
+                            std::size_t i, double top, double pixel, const ReliefOptions& o) {
+    // The classes' drops combine by a log-mean-exp over 3 % of the layer: a hard maximum
+    // leaves a crease where one class's groove overtakes another's. It lies between the
+    // largest drop minus τ·ln(classes) and the largest, so never deeper than that.
+    const double tau = std::max(0.03 * top, 1e-9);
+    double sum = 0, largest = 0;
+    std::array<double, 8> drops{};
+    for (std::size_t k = 0; k < distance.size(); ++k) {
+        const double dk = distance[k][i], w = class_weight[k];
+        if (!std::isfinite(dk)) continue;
+        const double reach = std::max({o.bevel, o.crack_width * w, 1.5 * pixel});
+        double depth = o.bevel;
+        if (o.crack_depth > 0) depth = std::max(depth, o.crack_depth * top * std::sqrt(w));
+        depth = std::min(depth, top);
+        const double t = 1.0 - std::min(dk / reach, 1.0); // 1 at the lip, 0 at full reach
+        const double v_shape = t * t, rounded = 1.0 - std::sqrt(1.0 - t * t);
+        drops[k] = depth * ((1.0 - o.crack_shape) * v_shape + o.crack_shape * rounded);
+        largest = std::max(largest, drops[k]);
+    }
+    for (std::size_t k = 0; k < distance.size(); ++k)
+        sum += std::exp((drops[k] - largest) / tau);
+    const double drop =
+        std::min(top, largest + tau * std::log(std::max(sum, 1.0)) - tau * std::log(double(distance.size())));
+    return std::max(drop, 0.0);
+}
+
+} // namespace
+
 Relief shape_relief(const RasterLayers& layers, const ReliefOptions& o) {
     const PixelGrid& g = layers.grid;
     const std::size_t px = g.pixels();
@@ -344,29 +377,7 @@ Relief shape_relief(const RasterLayers& layers, const ReliefOptions& o) {
                 h = std::max(0.0, double(layers.height[i]) * (1.0 - pixel_depth));
             } else {
                 const double top = smooth[i], d = field.distance[i];
-                // The classes' drops combine by a log-mean-exp over 3 % of the layer: a hard maximum
-                // leaves a crease where one class's groove overtakes another's. It lies between the
-                // largest drop minus τ·ln(classes) and the largest, so never deeper than that.
-                const double tau = std::max(0.03 * top, 1e-9);
-                double drop = 0, sum = 0, largest = 0;
-                std::array<double, 8> drops{};
-                for (std::size_t k = 0; k < distance.size(); ++k) {
-                    const double dk = distance[k][i], w = class_weight[k];
-                    if (!std::isfinite(dk)) continue;
-                    const double reach = std::max({o.bevel, o.crack_width * w, 1.5 * pixel});
-                    double depth = o.bevel;
-                    if (o.crack_depth > 0) depth = std::max(depth, o.crack_depth * top * std::sqrt(w));
-                    depth = std::min(depth, top);
-                    const double t = 1.0 - std::min(dk / reach, 1.0); // 1 at the lip, 0 at full reach
-                    const double v_shape = t * t, rounded = 1.0 - std::sqrt(1.0 - t * t);
-                    drops[k] = depth * ((1.0 - o.crack_shape) * v_shape + o.crack_shape * rounded);
-                    largest = std::max(largest, drops[k]);
-                }
-                for (std::size_t k = 0; k < distance.size(); ++k)
-                    sum += std::exp((drops[k] - largest) / tau);
-                drop = std::min(top,
-                                largest + tau * std::log(std::max(sum, 1.0)) - tau * std::log(double(distance.size())));
-                drop = std::max(drop, 0.0);
+                const double drop = combined_drop(distance, class_weight, i, top, pixel, o);
                 double lift = 0;
                 if (o.curl > 0 && std::isfinite(d)) {
                     const double curl_reach = o.curl_width * top;

@@ -35,6 +35,7 @@ struct ReliefOptions {
     double element_size = 0;         ///< m: the simulation's facet size (smoothing scale)
     DetailLayer fibre{0, 0.004, 8}, flake{0, 0.02, 1}, grit{0, 0.002, 1};
     std::uint32_t seed = 1;
+    bool operator==(const ReliefOptions&) const = default; ///< every field: the options test compares whole structs
 };
 
 struct Relief {

@@ -21,6 +21,7 @@ struct ShadingOptions {
     double cavity = 0.5; ///< how much the occlusion darkens the albedo, 0..1
     double roughness = 0.85, roughness_variation = 0.1;
     std::uint32_t seed = 1;
+    bool operator==(const ShadingOptions&) const = default; ///< every field: the options test compares whole structs
 };
 
 /// Unit normals in the texture frame (x = u, y = v, z up), 3 per pixel.

@@ -115,16 +115,9 @@ void FemModel::refresh_incidence(const std::vector<FaceId>& faces, const std::ve
     }
 }
 
-void FemModel::reassemble_around(const std::vector<std::size_t>& vertices) {
-    // The rows (and, by symmetry, columns) of these vertices are rebuilt from their current
-    // elements (Alg. 7 generalised): exact, O(changed), no full assembly. The pattern only grows.
-    grow_rows(static_cast<Eigen::Index>(3 * slot(m_mesh.num_vertices())));
+std::vector<FemModel::StiffnessBlock> FemModel::stiffness_blocks(const std::vector<std::size_t>& vertices) const {
     // The new blocks between slots: (a, b, K_ab) summed over the faces a's and b's vertices share.
-    struct Block {
-        std::size_t a, b;
-        Mat3 K;
-    };
-    std::vector<Block> blocks;
+    std::vector<StiffnessBlock> blocks;
     for (std::size_t va : vertices) {
         for (int ja = 0; ja < m_order; ++ja) {
             const std::size_t a = slot(va, ja);
@@ -140,7 +133,7 @@ void FemModel::reassemble_around(const std::vector<std::size_t>& vertices) {
                         const std::size_t b = slot(ix(face.v[kb]), jb);
                         const Mat3 K = k_block(f, ja, ka, jb, kb);
                         auto it = std::find_if(blocks.begin() + static_cast<std::ptrdiff_t>(first), blocks.end(),
-                                               [&](const Block& e) { return e.b == b; });
+                                               [&](const StiffnessBlock& e) { return e.b == b; });
                         if (it == blocks.end())
                             blocks.push_back({a, b, K});
                         else
@@ -150,62 +143,72 @@ void FemModel::reassemble_around(const std::vector<std::size_t>& vertices) {
             if (m_alive_degree[va] == 0) blocks.push_back({a, a, Mat3::Identity()});
         }
     }
-    // Make room first, in one move: Eigen's one-at-a-time insertion reallocates everything.
-    // The matrix stays uncompressed with slack in every row, so most changes fit where they
-    // are; a short row moves the rows after it (O(nnz)), so it gets generous slack.
-    {
-        const int slack = 18 * m_order; // six new neighbour vertices
-        // (row, first column) of each missing 3-column block, each once: a block (a, b) and
-        // its mirror (b, a) both ask for the same two.
-        std::vector<std::pair<Eigen::Index, Eigen::Index>> absent;
-        auto has = [&](Eigen::Index row, Eigen::Index col) {
-            for (SpMatR::InnerIterator it(m_K, row); it; ++it)
-                if (it.col() == col) return true;
-            return false;
-        };
-        for (const Block& bl : blocks)
-            for (int i = 0; i < 3; ++i) {
-                const auto ra = static_cast<Eigen::Index>(3 * bl.a) + i, rb = static_cast<Eigen::Index>(3 * bl.b) + i;
-                const auto ca = static_cast<Eigen::Index>(3 * bl.a), cb = static_cast<Eigen::Index>(3 * bl.b);
-                if (!has(ra, cb)) absent.emplace_back(ra, cb);
-                if (!has(rb, ca)) absent.emplace_back(rb, ca);
-            }
-        std::sort(absent.begin(), absent.end());
-        absent.erase(std::unique(absent.begin(), absent.end()), absent.end());
-        std::vector<Eigen::Index> missing; // rows, one entry per missing 3-column block
-        for (const auto& rc : absent)
-            missing.push_back(rc.first);
-        bool short_of_room = false;
-        for (std::size_t i = 0; i < missing.size() && !short_of_room;) {
-            std::size_t j = i;
-            while (j < missing.size() && missing[j] == missing[i])
-                ++j;
-            const Eigen::Index r = missing[i];
-            const Eigen::Index room = m_K.outerIndexPtr()[r + 1] - m_K.outerIndexPtr()[r] - m_K.innerNonZeroPtr()[r];
-            short_of_room = static_cast<Eigen::Index>(3 * (j - i)) > room;
-            i = j;
+    return blocks;
+}
+
+// Make room first, in one move: Eigen's one-at-a-time insertion reallocates everything.
+// The matrix stays uncompressed with slack in every row, so most changes fit where they
+// are; a short row moves the rows after it (O(nnz)), so it gets generous slack.
+void FemModel::reserve_stiffness_room(const std::vector<StiffnessBlock>& blocks) {
+    const int slack = 18 * m_order; // six new neighbour vertices
+    // (row, first column) of each missing 3-column block, each once: a block (a, b) and
+    // its mirror (b, a) both ask for the same two.
+    std::vector<std::pair<Eigen::Index, Eigen::Index>> absent;
+    auto has = [&](Eigen::Index row, Eigen::Index col) {
+        for (SpMatR::InnerIterator it(m_K, row); it; ++it)
+            if (it.col() == col) return true;
+        return false;
+    };
+    for (const StiffnessBlock& bl : blocks)
+        for (int i = 0; i < 3; ++i) {
+            const auto ra = static_cast<Eigen::Index>(3 * bl.a) + i, rb = static_cast<Eigen::Index>(3 * bl.b) + i;
+            const auto ca = static_cast<Eigen::Index>(3 * bl.a), cb = static_cast<Eigen::Index>(3 * bl.b);
+            if (!has(ra, cb)) absent.emplace_back(ra, cb);
+            if (!has(rb, ca)) absent.emplace_back(rb, ca);
         }
-        if (short_of_room) {
-            // Eigen's reserve walks and moves every row whatever it is asked for, so one pass
-            // gives every row room for twelve new neighbours: a tip sub-model's trial (§5.7.8)
-            // adds up to about ten to the rows around a tip (and takes them away again), and
-            // a pass per trial was 15 % of mud's run.
-            Eigen::VectorXi need = Eigen::VectorXi::Zero(m_K.outerSize());
-            for (Eigen::Index r : missing)
-                need[r] += 3;
-            for (Eigen::Index r = 0; r < need.size(); ++r) // the room each row gets (at least);
-                need[r] = need[r] > 0 ? std::max(need[r] + 2 * slack, m_K.innerNonZeroPtr()[r]) // a short row doubles
-                                      : 2 * slack;
-            // Grow the storage geometrically, and only when it is full.
-            Eigen::Index extra = 0;
-            for (Eigen::Index r = 0; r < need.size(); ++r)
-                extra += std::max<Eigen::Index>(
-                    0, need[r] - (m_K.outerIndexPtr()[r + 1] - m_K.outerIndexPtr()[r] - m_K.innerNonZeroPtr()[r]));
-            if (m_K.data().size() + extra > m_K.data().allocatedSize())
-                m_K.data().reserve(std::max<Eigen::Index>(extra, m_K.data().size() / 2));
-            m_K.reserve(need);
-        }
+    std::sort(absent.begin(), absent.end());
+    absent.erase(std::unique(absent.begin(), absent.end()), absent.end());
+    std::vector<Eigen::Index> missing; // rows, one entry per missing 3-column block
+    for (const auto& rc : absent)
+        missing.push_back(rc.first);
+    bool short_of_room = false;
+    for (std::size_t i = 0; i < missing.size() && !short_of_room;) {
+        std::size_t j = i;
+        while (j < missing.size() && missing[j] == missing[i])
+            ++j;
+        const Eigen::Index r = missing[i];
+        const Eigen::Index room = m_K.outerIndexPtr()[r + 1] - m_K.outerIndexPtr()[r] - m_K.innerNonZeroPtr()[r];
+        short_of_room = static_cast<Eigen::Index>(3 * (j - i)) > room;
+        i = j;
     }
+    if (short_of_room) {
+        // Eigen's reserve walks and moves every row whatever it is asked for, so one pass
+        // gives every row room for twelve new neighbours: a tip sub-model's trial (§5.7.8)
+        // adds up to about ten to the rows around a tip (and takes them away again), and
+        // a pass per trial was 15 % of mud's run.
+        Eigen::VectorXi need = Eigen::VectorXi::Zero(m_K.outerSize());
+        for (Eigen::Index r : missing)
+            need[r] += 3;
+        for (Eigen::Index r = 0; r < need.size(); ++r) // the room each row gets (at least);
+            need[r] = need[r] > 0 ? std::max(need[r] + 2 * slack, m_K.innerNonZeroPtr()[r]) // a short row doubles
+                                  : 2 * slack;
+        // Grow the storage geometrically, and only when it is full.
+        Eigen::Index extra = 0;
+        for (Eigen::Index r = 0; r < need.size(); ++r)
+            extra += std::max<Eigen::Index>(
+                0, need[r] - (m_K.outerIndexPtr()[r + 1] - m_K.outerIndexPtr()[r] - m_K.innerNonZeroPtr()[r]));
+        if (m_K.data().size() + extra > m_K.data().allocatedSize())
+            m_K.data().reserve(std::max<Eigen::Index>(extra, m_K.data().size() / 2));
+        m_K.reserve(need);
+    }
+}
+
+void FemModel::reassemble_around(const std::vector<std::size_t>& vertices) {
+    // The rows (and, by symmetry, columns) of these vertices are rebuilt from their current
+    // elements (Alg. 7 generalised): exact, O(changed), no full assembly. The pattern only grows.
+    grow_rows(static_cast<Eigen::Index>(3 * slot(m_mesh.num_vertices())));
+    const std::vector<StiffnessBlock> blocks = stiffness_blocks(vertices);
+    reserve_stiffness_room(blocks);
     if (m_trial.active) {
         // Every row this touches: the vertices' own, their old and new neighbours'.
         for (std::size_t va : vertices)
@@ -217,7 +220,7 @@ void FemModel::reassemble_around(const std::vector<std::size_t>& vertices) {
                     for (SpMatR::InnerIterator it(m_K, row); it; ++it)
                         record_row(it.col());
                 }
-        for (const Block& bl : blocks)
+        for (const StiffnessBlock& bl : blocks)
             for (int i = 0; i < 3; ++i) {
                 record_row(static_cast<Eigen::Index>(3 * bl.a) + i);
                 record_row(static_cast<Eigen::Index>(3 * bl.b) + i);
@@ -232,7 +235,7 @@ void FemModel::reassemble_around(const std::vector<std::size_t>& vertices) {
                     set_entry(m_K, it.col(), row, 0.0);
                 }
             }
-    for (const Block& bl : blocks) {
+    for (const StiffnessBlock& bl : blocks) {
         set_block(bl.a, bl.b, bl.K);
         set_block(bl.b, bl.a, bl.K.transpose());
     }

@@ -64,25 +64,7 @@ SolveStats FemModel::relax_field_local(Unknown u, const std::vector<std::size_t>
 
     while (true) {
         // === The set: a breadth-first ball along intact elements (crack-aware distance)
-        std::vector<std::size_t> set;
-        for (std::size_t v : sources)
-            if (hop[v] < 0 && m_alive_degree[v] > 0) {
-                hop[v] = 0;
-                set.push_back(v);
-            }
-        const int max_hop = static_cast<int>(std::lround(radius));
-        for (std::size_t head = 0; head < set.size(); ++head) {
-            const std::size_t v = set[head];
-            if (hop[v] >= max_hop) continue;
-            for (std::uint32_t f : m_incident[v]) {
-                if (!m_alive[f]) continue;
-                for (VertexId w : m_mesh.faces[face_id(f)].v)
-                    if (hop[ix(w)] < 0) {
-                        hop[ix(w)] = hop[v] + 1;
-                        set.push_back(ix(w));
-                    }
-            }
-        }
+        std::vector<std::size_t> set = local_ball(sources, radius);
         if (static_cast<double>(set.size()) > options.max_fraction * static_cast<double>(nv)) {
             log::debug("local ", u == Unknown::Position ? "x" : "v", " fallback: ", set.size(), " nodes at radius ",
                        radius, " from ", sources.size(), " sources");
@@ -99,79 +81,15 @@ SolveStats FemModel::relax_field_local(Unknown u, const std::vector<std::size_t>
 
         // === K_SS Δ = r_S with the rest held (the thesis' elimination method, §5.5); every slot
         // of a vertex in the set is solved for: local unknown 3·(p·i + j) + d.
-        const auto m = static_cast<Eigen::Index>(3 * p * set.size());
-        for (std::size_t i = 0; i < set.size(); ++i)
-            local_index[set[i]] = static_cast<int>(i);
-        std::vector<Eigen::Triplet<double>> triplets;
-        triplets.reserve(static_cast<std::size_t>(m) * 21 * p);
-        Eigen::VectorXd rhs(m);
-        for (std::size_t i = 0; i < set.size(); ++i) {
-            const std::size_t v = set[i];
-            for (std::size_t j = 0; j < p; ++j) {
-                const auto local = static_cast<Eigen::Index>(3 * (p * i + j));
-                rhs.segment<3>(local) = fd.residual.segment<3>(static_cast<Eigen::Index>(3 * (p * v + j)));
-                for (int d = 0; d < 3; ++d) {
-                    const auto row = static_cast<Eigen::Index>(3 * (p * v + j)) + d;
-                    for (SpMatR::InnerIterator it(m_K, row); it; ++it) {
-                        const auto col_slot = static_cast<std::size_t>(it.col() / 3);
-                        const int lj = local_index[col_slot / p];
-                        // K keeps explicit zeros where edits left them (its pattern only grows);
-                        // leaving them out makes the ordering, and so the answer's last bits,
-                        // independent of the edit history.
-                        if (lj >= 0 && it.value() != 0.0)
-                            triplets.emplace_back(
-                                local + d,
-                                static_cast<Eigen::Index>(3 * (p * static_cast<std::size_t>(lj) + col_slot % p))
-                                    + it.col() % 3,
-                                it.value());
-                    }
-                }
-            }
-        }
-        Eigen::SparseMatrix<double> Kss(m, m);
-        Kss.setFromTriplets(triplets.begin(), triplets.end());
-        Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt(Kss);
-        if (ldlt.info() != Eigen::Success) throw NumericError("local stiffness matrix is not positive definite");
-        const Eigen::VectorXd dx = ldlt.solve(rhs);
+        Eigen::VectorXd rhs;
+        const Eigen::VectorXd dx = solve_local_set(fd, set, rhs);
         stats.iterations += 1;
         stats.energy_release += 0.5 * rhs.dot(dx);
         stats.nodes = std::max(stats.nodes, set.size());
 
         // === Apply: x_S += Δ; r −= K[:, S] Δ (K symmetric: walk the rows of S). The force
         // this pushes onto the nodes just outside the set is what is left to resolve.
-        std::vector<std::size_t> outside;
-        if (pushed.size() < p * nv) pushed.resize(p * nv, Vec3::Zero());
-        auto untouched = [&](std::size_t w) {
-            for (std::size_t j = 0; j < p; ++j)
-                if (pushed[p * w + j] != Vec3::Zero()) return false;
-            return true;
-        };
-        for (std::size_t i = 0; i < set.size(); ++i) {
-            const std::size_t v = set[i];
-            double moved = 0;
-            for (std::size_t j = 0; j < p; ++j) {
-                const Vec3 d = dx.segment<3>(static_cast<Eigen::Index>(3 * (p * i + j)));
-                fd.values[p * v + j] += d;
-                moved = std::max(moved, d.norm());
-                for (int c = 0; c < 3; ++c) {
-                    const auto row = static_cast<Eigen::Index>(3 * (p * v + j)) + c;
-                    for (SpMatR::InnerIterator it(m_K, row); it; ++it) {
-                        const auto w_slot = static_cast<std::size_t>(it.col() / 3);
-                        const std::size_t w = w_slot / p;
-                        fd.residual[it.col()] -= it.value() * d[c];
-                        if (local_index[w] < 0) {
-                            if (untouched(w)) outside.push_back(w);
-                            pushed[w_slot][it.col() % 3] -= it.value() * d[c];
-                        }
-                    }
-                }
-            }
-            m_last_update[v] += moved;
-            if (!touched[v]) {
-                touched[v] = 1;
-                m_updated.push_back(v);
-            }
-        }
+        const std::vector<std::size_t> outside = apply_local_step(fd, set, dx);
         for (std::size_t v : set)
             local_index[v] = -1;
 
@@ -207,6 +125,112 @@ SolveStats FemModel::relax_field_local(Unknown u, const std::vector<std::size_t>
     stats.residual = tol / std::max(change, 1e-300);
     stats.seconds = timer.seconds();
     return stats;
+}
+
+std::vector<std::size_t> FemModel::local_ball(const std::vector<std::size_t>& sources, double radius) {
+    std::vector<int>& hop = m_scratch_hop;
+    std::vector<std::size_t> set;
+    for (std::size_t v : sources)
+        if (hop[v] < 0 && m_alive_degree[v] > 0) {
+            hop[v] = 0;
+            set.push_back(v);
+        }
+    const int max_hop = static_cast<int>(std::lround(radius));
+    for (std::size_t head = 0; head < set.size(); ++head) {
+        const std::size_t v = set[head];
+        if (hop[v] >= max_hop) continue;
+        for (std::uint32_t f : m_incident[v]) {
+            if (!m_alive[f]) continue;
+            for (VertexId w : m_mesh.faces[face_id(f)].v)
+                if (hop[ix(w)] < 0) {
+                    hop[ix(w)] = hop[v] + 1;
+                    set.push_back(ix(w));
+                }
+        }
+    }
+    return set;
+}
+
+Eigen::VectorXd FemModel::solve_local_set(const Field& fd, const std::vector<std::size_t>& set, Eigen::VectorXd& rhs) {
+    const auto p = static_cast<std::size_t>(m_order);
+    std::vector<int>& local_index = m_scratch_index;
+    const auto m = static_cast<Eigen::Index>(3 * p * set.size());
+    for (std::size_t i = 0; i < set.size(); ++i)
+        local_index[set[i]] = static_cast<int>(i);
+    std::vector<Eigen::Triplet<double>> triplets;
+    triplets.reserve(static_cast<std::size_t>(m) * 21 * p);
+    rhs.resize(m);
+    for (std::size_t i = 0; i < set.size(); ++i) {
+        const std::size_t v = set[i];
+        for (std::size_t j = 0; j < p; ++j) {
+            const auto local = static_cast<Eigen::Index>(3 * (p * i + j));
+            rhs.segment<3>(local) = fd.residual.segment<3>(static_cast<Eigen::Index>(3 * (p * v + j)));
+            for (int d = 0; d < 3; ++d) {
+                const auto row = static_cast<Eigen::Index>(3 * (p * v + j)) + d;
+                for (SpMatR::InnerIterator it(m_K, row); it; ++it) {
+                    const auto col_slot = static_cast<std::size_t>(it.col() / 3);
+                    const int lj = local_index[col_slot / p];
+                    // K keeps explicit zeros where edits left them (its pattern only grows);
+                    // leaving them out makes the ordering, and so the answer's last bits,
+                    // independent of the edit history.
+                    if (lj >= 0 && it.value() != 0.0)
+                        triplets.emplace_back(
+                            local + d,
+                            static_cast<Eigen::Index>(3 * (p * static_cast<std::size_t>(lj) + col_slot % p))
+                                + it.col() % 3,
+                            it.value());
+                }
+            }
+        }
+    }
+    Eigen::SparseMatrix<double> Kss(m, m);
+    Kss.setFromTriplets(triplets.begin(), triplets.end());
+    Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt(Kss);
+    if (ldlt.info() != Eigen::Success) throw NumericError("local stiffness matrix is not positive definite");
+    return ldlt.solve(rhs);
+}
+
+std::vector<std::size_t> FemModel::apply_local_step(Field& fd, const std::vector<std::size_t>& set,
+                                                    const Eigen::VectorXd& dx) {
+    const auto p = static_cast<std::size_t>(m_order);
+    const std::size_t nv = m_mesh.num_vertices();
+    std::vector<int>& local_index = m_scratch_index;
+    std::vector<char>& touched = m_scratch_touched;
+    std::vector<Vec3>& pushed = m_scratch_pushed;
+    std::vector<std::size_t> outside;
+    if (pushed.size() < p * nv) pushed.resize(p * nv, Vec3::Zero());
+    auto untouched = [&](std::size_t w) {
+        for (std::size_t j = 0; j < p; ++j)
+            if (pushed[p * w + j] != Vec3::Zero()) return false;
+        return true;
+    };
+    for (std::size_t i = 0; i < set.size(); ++i) {
+        const std::size_t v = set[i];
+        double moved = 0;
+        for (std::size_t j = 0; j < p; ++j) {
+            const Vec3 d = dx.segment<3>(static_cast<Eigen::Index>(3 * (p * i + j)));
+            fd.values[p * v + j] += d;
+            moved = std::max(moved, d.norm());
+            for (int c = 0; c < 3; ++c) {
+                const auto row = static_cast<Eigen::Index>(3 * (p * v + j)) + c;
+                for (SpMatR::InnerIterator it(m_K, row); it; ++it) {
+                    const auto w_slot = static_cast<std::size_t>(it.col() / 3);
+                    const std::size_t w = w_slot / p;
+                    fd.residual[it.col()] -= it.value() * d[c];
+                    if (local_index[w] < 0) {
+                        if (untouched(w)) outside.push_back(w);
+                        pushed[w_slot][it.col() % 3] -= it.value() * d[c];
+                    }
+                }
+            }
+        }
+        m_last_update[v] += moved;
+        if (!touched[v]) {
+            touched[v] = 1;
+            m_updated.push_back(v);
+        }
+    }
+    return outside;
 }
 
 } // namespace crackle::sim

@@ -319,8 +319,25 @@ private:
     SolveStats relax_field(Unknown u);
     SolveStats relax_field_local(Unknown u, const std::vector<std::size_t>& seeds, double& radius,
                                  const LocalRelaxOptions& options);
+    // The steps of one round of relax_field_local (§5.8): the set, its solve, the update.
+    /// The breadth-first ball of `radius` hops along intact elements from `sources` (marks hop[]).
+    std::vector<std::size_t> local_ball(const std::vector<std::size_t>& sources, double radius);
+    /// Δ solving K_SS Δ = r_S with the rest held (§5.5's elimination; marks local_index[]), and r_S.
+    Eigen::VectorXd solve_local_set(const Field& fd, const std::vector<std::size_t>& set, Eigen::VectorXd& rhs);
+    /// x_S += Δ, r −= K[:, S] Δ; the nodes outside the set that this pushed a force onto.
+    std::vector<std::size_t> apply_local_step(Field& fd, const std::vector<std::size_t>& set,
+                                              const Eigen::VectorXd& dx);
     /// K's block between slots a and b.
     void set_block(std::size_t a, std::size_t b, const Mat3& block);
+    /// A block of K between two slots, summed over the faces their vertices share.
+    struct StiffnessBlock {
+        std::size_t a, b;
+        Mat3 K;
+    };
+    /// The blocks of these vertices' rows from their current elements (reassemble_around).
+    std::vector<StiffnessBlock> stiffness_blocks(const std::vector<std::size_t>& vertices) const;
+    /// Room in K's rows for the blocks it does not hold yet, made in one move.
+    void reserve_stiffness_room(const std::vector<StiffnessBlock>& blocks);
     /// Appends a new vertex's slots to both fields (and zero rows to valid residuals).
     void push_vertex_slots();
     /// After a local topology or shape change: the rows of K of these vertices (sorted,

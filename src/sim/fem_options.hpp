@@ -22,6 +22,7 @@ struct FemOptions {
     /// Polynomial order of the displacement through the layer (wedge_modes.hpp): 1 is the
     /// thesis' linear wedge; 2 and 3 add per-vertex through-thickness modes (3 unknowns each).
     int thickness_order = 1;
+    bool operator==(const FemOptions&) const = default; ///< every field: the options test compares whole structs
 };
 
 } // namespace crackle::sim

@@ -21,6 +21,7 @@ struct GrowthOptions {
     /// the Y axis: α = 90° − angle_deg.) Cylinder and sphere take 0 (r1 around, r2 along the
     /// axis) or 90 (r1 along the axis).
     double angle_deg = 0.0;
+    bool operator==(const GrowthOptions&) const = default; ///< every field: the options test compares whole structs
 };
 
 /// v(x) = T·x with a constant growth tensor T = ∂v/∂x (Eq. 3.3). The fixed point is the

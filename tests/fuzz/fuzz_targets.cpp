@@ -1,6 +1,6 @@
 #include "fuzz_targets.hpp"
 
-#include "app/scene.hpp"
+#include "app/run/scene.hpp"
 #include "core/error.hpp"
 #include "fracture/pattern_file.hpp"
 #include "io/preset.hpp"

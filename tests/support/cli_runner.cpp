@@ -1,6 +1,6 @@
 #include "support/cli_runner.hpp"
 
-#include "app/cli.hpp"
+#include "app/cli/cli.hpp"
 
 #include <algorithm>
 #include <cstdlib>

@@ -2,8 +2,8 @@
 /// @file A preset simulated and built into pieces in-process, for tests of the post stage and
 /// the bake.
 
-#include "app/options.hpp"
-#include "app/pipeline.hpp"
+#include "app/run/options.hpp"
+#include "app/run/pipeline.hpp"
 #include "io/preset.hpp"
 #include "post/pieces.hpp"
 

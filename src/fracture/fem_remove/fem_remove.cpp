@@ -27,6 +27,53 @@ Vec3 reference_centroid(const sim::FemModel& model, FaceId f) {
 
 } // namespace
 
+namespace {
+
+/// The vertices of these faces, sorted, each once.
+std::vector<std::size_t> vertices_of_faces(const sim::FemModel& model, const std::vector<FaceId>& faces) {
+    std::vector<std::size_t> vs;
+    for (FaceId f : faces)
+        for (mesh::VertexId v : model.mesh().faces[f].v)
+            vs.push_back(ix(v));
+    std::sort(vs.begin(), vs.end());
+    vs.erase(std::unique(vs.begin(), vs.end()), vs.end());
+    return vs;
+}
+
+/// Alg. 5: the time of the next fracture after t0 (at most `horizon`), to `dt_min`, on the exact
+/// affine solution; `last_step` the previous search's step (its first guess).
+double next_fracture_time(const StressCache& cache, double t0, double horizon, double dt_min, double& last_step) {
+    // Earliest possible crossing per element, from λ_max(σ₀ + τσ̇) ≤ ‖σ₀‖ + τ‖σ̇‖: only
+    // elements whose bound has passed need their eigenvalues checked.
+    const std::vector<std::pair<double, std::size_t>> earliest = cache.earliest_crossings();
+    std::vector<std::size_t> over;
+    bool narrowed = false;
+    auto any_over = [&](double t) {
+        if (narrowed) {
+            for (std::size_t f : over)
+                if (cache.ratio_at(f, t - t0) > 1.0) return true;
+            return false;
+        }
+        for (const auto& [bound, f] : earliest) {
+            if (bound > t - t0) break;
+            if (cache.ratio_at(f, t - t0) > 1.0) return true;
+        }
+        return false;
+    };
+    // The first crossing is among the elements over threshold at t_hi (each ratio is convex
+    // in t, so one below threshold at both ends stays below).
+    auto narrow = [&](double t_hi) {
+        for (const auto& [bound, f] : earliest) {
+            if (bound > t_hi - t0) break;
+            if (cache.ratio_at(f, t_hi - t0) > 1.0) over.push_back(f);
+        }
+        narrowed = true;
+    };
+    return next_crossing(t0, horizon, dt_min, last_step, any_over, narrow);
+}
+
+} // namespace
+
 CrackPattern run_fem_remove(sim::FemModel& model, const FractureOptions& options, Rng& rng, RunStats* stats_out,
                             RemovalStats* removal_out) {
     RunStats stats;
@@ -46,15 +93,7 @@ CrackPattern run_fem_remove(sim::FemModel& model, const FractureOptions& options
     auto relax_near = [&](const std::vector<std::size_t>& seeds) {
         return relax_after_change(model, seeds, radius, local_options, options, stats, rate_seeds);
     };
-    auto vertices_of = [&](const std::vector<FaceId>& faces) {
-        std::vector<std::size_t> vs;
-        for (FaceId f : faces)
-            for (mesh::VertexId v : model.mesh().faces[f].v)
-                vs.push_back(ix(v));
-        std::sort(vs.begin(), vs.end());
-        vs.erase(std::unique(vs.begin(), vs.end()), vs.end());
-        return vs;
-    };
+    auto vertices_of = [&](const std::vector<FaceId>& faces) { return vertices_of_faces(model, faces); };
 
     StressCache cache(model);
     relax_all(model, cache, stats); // the state at the start: equilibrium and its rate, globally
@@ -111,35 +150,8 @@ CrackPattern run_fem_remove(sim::FemModel& model, const FractureOptions& options
 
         // === Alg. 5: find the time of the next fracture
         timer.reset();
-        const double t0 = model.time();
-        const double horizon = std::min(options.duration, model.stiffness_horizon());
-        // Earliest possible crossing per element, from λ_max(σ₀ + τσ̇) ≤ ‖σ₀‖ + τ‖σ̇‖: only
-        // elements whose bound has passed need their eigenvalues checked.
-        const std::vector<std::pair<double, std::size_t>> earliest = cache.earliest_crossings();
-        std::vector<std::size_t> over;
-        bool narrowed = false;
-        auto any_over = [&](double t) {
-            if (narrowed) {
-                for (std::size_t f : over)
-                    if (cache.ratio_at(f, t - t0) > 1.0) return true;
-                return false;
-            }
-            for (const auto& [bound, f] : earliest) {
-                if (bound > t - t0) break;
-                if (cache.ratio_at(f, t - t0) > 1.0) return true;
-            }
-            return false;
-        };
-        // The first crossing is among the elements over threshold at t_hi (each ratio is convex
-        // in t, so one below threshold at both ends stays below).
-        auto narrow = [&](double t_hi) {
-            for (const auto& [bound, f] : earliest) {
-                if (bound > t_hi - t0) break;
-                if (cache.ratio_at(f, t_hi - t0) > 1.0) over.push_back(f);
-            }
-            narrowed = true;
-        };
-        const double t_next = next_crossing(t0, horizon, dt_min, last_step, any_over, narrow);
+        const double t_next = next_fracture_time(
+            cache, model.time(), std::min(options.duration, model.stiffness_horizon()), dt_min, last_step);
         stats.stress_seconds += timer.seconds();
 
         // Move along the exact affine solution; no solve unless shrinkage rebuilt the stiffness.

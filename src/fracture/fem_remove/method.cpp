@@ -39,6 +39,8 @@ MethodInfo fem_remove_method() {
     info.name = "fem-remove";
     info.description = "fem-remove (element removal, §5.6: wide cracks)";
     info.make = [](const Settings&) { return std::make_unique<FemRemove>(); };
+    info.bytes_per_element = wedge_layer_bytes_per_element;
+    info.study = {{"fem-remove", {}, 1.0, 0}};
     return info;
 }
 

@@ -50,6 +50,7 @@ struct SplitOptions {
     /// Check the mesh invariants (check_split_invariants) after every topology change and
     /// throw InvariantError on the first violation: O(mesh) per event, for tests and debugging.
     bool check_invariants = false;
+    bool operator==(const SplitOptions&) const = default; ///< every field: the options test compares whole structs
 };
 
 /// What element splitting did.

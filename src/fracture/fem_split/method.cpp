@@ -127,6 +127,11 @@ MethodInfo fem_split_method() {
     info.description = "fem-split (element splitting with Griffith crack tips, the default)";
     info.keys = split_keys();
     info.make = [](const Settings& s) { return std::make_unique<FemSplit>(split_options(s)); };
+    info.bytes_per_element = wedge_layer_bytes_per_element;
+    // A quick look leaves out the tip sub-model (§5.7.8): straighter tips on coarse meshes, slower.
+    info.preview_overrides = {"simulation.tip_submodel=0"};
+    info.study = {{"fem-split", {"simulation.tip_submodel=0"}, 1.0, 0},
+                  {"fem-split-tip", {"simulation.tip_submodel=2"}, 3.0, 0}};
     return info;
 }
 

@@ -54,46 +54,35 @@ double crack_area(const sim::FemModel& model, const EdgeGraph::Edge& edge) {
     return length * h;
 }
 
-} // namespace
-
-CrackPattern run_graph_fem(sim::FemModel& model, const FractureOptions& options, const GraphFemOptions& graph_options,
-                           Rng& rng, RunStats* stats_out, GraphFemStats* graph_out) {
-    RunStats stats;
-    GraphFemStats g;
-    Timer total;
-    EventLog events(options);
-    const std::size_t elements_initial = model.num_alive();
-    const double dt_min = options.time_tolerance * options.duration;
-    const EdgeGraph graph(model.mesh());
-    g.edges = graph.size();
-    g.nonzeros_initial = static_cast<std::size_t>(model.stiffness().nonZeros());
-
-    sim::LocalRelaxOptions local_options;
-    local_options.tolerance = options.local_tolerance;
-    const double radius0 = initial_radius(model, local_options.tolerance);
-    double radius = radius0;
-    double rate_radius = radius;
-    std::vector<std::size_t> rate_seeds;
-
-    StressCache cache(model, false);
-    relax_all(model, cache, stats); // the state at the start: equilibrium and its rate, globally
-    stats.setup_seconds = total.seconds();
-    EdgeCriterion criterion(model, cache, graph, graph_options.damage_radius);
-    criterion.refresh_all();
-    std::vector<std::uint32_t> changed;
-    cache.take_changes(changed);
+/// The loop of run_graph_fem: the layer, its edge graph, stresses and criterion (made by
+/// run_graph_fem), and the state the breaks carry from one to the next.
+struct GraphFemLoop {
+    sim::FemModel& model;
+    const FractureOptions& options;
+    const GraphFemOptions& graph_options;
+    Rng& rng;
+    const EdgeGraph& graph;
+    StressCache& cache;
+    EdgeCriterion& criterion;
+    EventLog& events;
+    FractureProgress& progress;
+    RunStats& stats;
+    GraphFemStats& g;
+    const sim::LocalRelaxOptions local_options;
+    const double radius0, dt_min, nu;
+    double radius = radius0, rate_radius = radius0;
+    std::vector<std::size_t> rate_seeds{};
+    std::vector<std::uint32_t> changed{};
     // The ratio each edge must pass to be tried by stress: 1, or, for an edge whose break the
     // Griffith test turned down, the ratio at which it would pay. Released energy grows as the
     // load squared, so that is the trial's ratio × √(G_c·A / released): no futile retries.
-    std::vector<double> level(graph.size(), 1.0);
-    double shortfall = 1; // G_c·A / released of the last trial turned down
-    const double nu = model.poisson_ratio();
-    FractureProgress progress(options.duration, elements_initial);
+    std::vector<double> level = std::vector<double>(graph.size(), 1.0);
+    double shortfall = 1; ///< G_c·A / released of the last trial turned down
 
-    // One break: edge e, undone by the Griffith test when `gated` and the energy it releases
-    // (the strain lost at once plus what the relaxation releases) does not pay for the crack
-    // wall G_c·A. Updates the stresses and the criterion, logs the event; false when undone.
-    auto try_break = [&](std::size_t e, bool gated, const char* kind, double ratio) {
+    /// One break: edge e, undone by the Griffith test when `gated` and the energy it releases
+    /// (the strain lost at once plus what the relaxation releases) does not pay for the crack
+    /// wall G_c·A. Updates the stresses and the criterion, logs the event; false when undone.
+    bool try_break(std::size_t e, bool gated, const char* kind, double ratio) {
         const EdgeGraph::Edge& edge = graph.edge(e);
         const Around near = around(model, edge);
         const EdgeGraph::Side& side = edge.side[0];
@@ -155,18 +144,20 @@ CrackPattern run_graph_fem(sim::FemModel& model, const FractureOptions& options,
             for (int k = 0; k < 3; ++k)
                 level[graph.edge_of(ix(f), k)] = 1.0;
         return true;
-    };
-    auto touches_crack = [&](std::size_t e) {
+    }
+
+    bool touches_crack(std::size_t e) const {
         const EdgeGraph::Edge& edge = graph.edge(e);
         for (int i = 0; i < edge.sides; ++i)
             if (model.broken_edges(face_id(edge.side[static_cast<std::size_t>(i)].face)) != 0) return true;
         return false;
-    };
-    // Griffith propagation (fem-split's Alg. 11 on the graph): from each crack tip a break made
-    // (a face it crossed with no other broken edge), the crack runs on through the tip face's
-    // most stressed other edge while the energy pays, whatever that edge's stress; a tip whose
-    // extension does not pay is arrested.
-    auto propagate = [&](std::size_t from) {
+    }
+
+    /// Griffith propagation (fem-split's Alg. 11 on the graph): from each crack tip a break made
+    /// (a face it crossed with no other broken edge), the crack runs on through the tip face's
+    /// most stressed other edge while the energy pays, whatever that edge's stress; a tip whose
+    /// extension does not pay is arrested.
+    void propagate(std::size_t from) {
         std::vector<std::size_t> front = {from};
         while (!front.empty()) {
             budget_check(); // a cascade can run thousands of breaks in one time step
@@ -207,31 +198,12 @@ CrackPattern run_graph_fem(sim::FemModel& model, const FractureOptions& options,
                 }
             }
         }
-    };
+    }
 
-    while (true) {
-        progress.update(model.time(), events.size());
+    /// No edge over its threshold: settle the time step and go to the next break, in closed form
+    /// (every side's ratio is a + b·τ until K changes).
+    void advance_to_next_break() {
         Timer timer;
-        std::size_t picked = 0;
-        double best = 0;
-        // The edge most over its threshold (one break per relaxation), ties drawn from the seed:
-        // equal-biaxial shrinkage ties every edge (digest §6.2).
-        const bool have = pick_most_over(
-            graph.size(), [&](std::size_t e) { return criterion.ratio(e); },
-            [&](std::size_t e) { return criterion.ratio(e) > level[e] && !graph.broken(model, e); }, rng, picked, best);
-        stats.stress_seconds += timer.seconds();
-        if (have) {
-            if (events.full(model.time())) break;
-            if (!try_break(picked, graph_options.griffith && touches_crack(picked), "break", best)) {
-                level[picked] = best * std::sqrt(shortfall); // the Griffith gate: wait for the load
-                continue;
-            }
-            if (graph_options.griffith) propagate(picked);
-            if (events.capped()) break;
-            continue;
-        }
-        if (model.time() >= options.duration) break;
-
         settle_time_step(model, cache, options, local_options, rate_radius, rate_seeds, stats);
         timer.reset();
         criterion.refresh_all(); // the rates changed where the step settled them
@@ -249,6 +221,77 @@ CrackPattern run_graph_fem(sim::FemModel& model, const FractureOptions& options,
         cache.take_changes(changed);
         stats.stress_seconds += timer.seconds();
     }
+
+    /// Breaks until the duration or the event cap.
+    void run() {
+        while (true) {
+            progress.update(model.time(), events.size());
+            Timer timer;
+            std::size_t picked = 0;
+            double best = 0;
+            // The edge most over its threshold (one break per relaxation), ties drawn from the seed:
+            // equal-biaxial shrinkage ties every edge (digest §6.2).
+            const bool have = pick_most_over(
+                graph.size(), [&](std::size_t e) { return criterion.ratio(e); },
+                [&](std::size_t e) { return criterion.ratio(e) > level[e] && !graph.broken(model, e); }, rng, picked,
+                best);
+            stats.stress_seconds += timer.seconds();
+            if (have) {
+                if (events.full(model.time())) break;
+                if (!try_break(picked, graph_options.griffith && touches_crack(picked), "break", best)) {
+                    level[picked] = best * std::sqrt(shortfall); // the Griffith gate: wait for the load
+                    continue;
+                }
+                if (graph_options.griffith) propagate(picked);
+                if (events.capped()) break;
+                continue;
+            }
+            if (model.time() >= options.duration) break;
+
+            advance_to_next_break();
+        }
+    }
+};
+
+} // namespace
+
+CrackPattern run_graph_fem(sim::FemModel& model, const FractureOptions& options, const GraphFemOptions& graph_options,
+                           Rng& rng, RunStats* stats_out, GraphFemStats* graph_out) {
+    RunStats stats;
+    GraphFemStats g;
+    Timer total;
+    EventLog events(options);
+    const std::size_t elements_initial = model.num_alive();
+    const EdgeGraph graph(model.mesh());
+    g.edges = graph.size();
+    g.nonzeros_initial = static_cast<std::size_t>(model.stiffness().nonZeros());
+
+    sim::LocalRelaxOptions local_options;
+    local_options.tolerance = options.local_tolerance;
+    const double radius0 = initial_radius(model, local_options.tolerance);
+    StressCache cache(model, false);
+    relax_all(model, cache, stats); // the state at the start: equilibrium and its rate, globally
+    stats.setup_seconds = total.seconds();
+    EdgeCriterion criterion(model, cache, graph, graph_options.damage_radius);
+    criterion.refresh_all();
+    FractureProgress progress(options.duration, elements_initial);
+    GraphFemLoop loop{model,
+                      options,
+                      graph_options,
+                      rng,
+                      graph,
+                      cache,
+                      criterion,
+                      events,
+                      progress,
+                      stats,
+                      g,
+                      local_options,
+                      radius0,
+                      options.time_tolerance * options.duration,
+                      model.poisson_ratio()};
+    cache.take_changes(loop.changed);
+    loop.run();
     progress.finish();
 
     g.nonzeros_final = static_cast<std::size_t>(model.stiffness().nonZeros());

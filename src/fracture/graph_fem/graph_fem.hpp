@@ -9,6 +9,7 @@
 /// while K is fixed: digest §7.5, thesis Alg. 5 without the bisection).
 
 #include "core/rng.hpp"
+#include "core/settings.hpp"
 #include "fracture/crack_pattern.hpp"
 #include "fracture/run.hpp"
 #include "fracture/toolkit/stress_cache.hpp"
@@ -35,6 +36,8 @@ struct GraphFemOptions {
     bool griffith = true;
     bool operator==(const GraphFemOptions&) const = default;
 };
+/// The method's options from its [simulation] keys (method.cpp).
+GraphFemOptions graph_fem_options(const Settings& settings);
 
 struct GraphFemStats {
     std::size_t breaks = 0;                               ///< edges broken

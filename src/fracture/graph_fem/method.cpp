@@ -98,6 +98,8 @@ MethodInfo graph_fem_method() {
     info.description = "graph-fem (remeshing-free: mesh edges break, elements lose the strain along them)";
     info.keys = graph_fem_keys();
     info.make = [](const Settings& s) { return std::make_unique<GraphFem>(graph_fem_options(s)); };
+    info.bytes_per_element = wedge_layer_bytes_per_element;
+    info.study = {{"graph-fem", {}, 1.0, 0}};
     return info;
 }
 

@@ -31,31 +31,18 @@ Vec2i add_point(mesh::SurfaceMesh& km, const mesh::SurfaceMesh& dm, const mesh::
             static_cast<int>(std::lround((unrolled.y() - canonical.y()) / dm.period.y()))};
 }
 
-} // namespace
+/// The graph's kites, cut open along the broken edges: which mesh vertex each kite vertex copies
+/// and the kite pairs facing each other across a crack.
+struct Kites {
+    std::vector<mesh::VertexId> origin;
+    std::vector<std::array<std::size_t, 2>> lips;
+};
 
-CrackPattern graph_pattern(const sim::FemModel& model, const EdgeGraph& graph, std::size_t elements_initial) {
+/// One dual point per face (after the mesh's vertices in `km`), their periodic offsets.
+std::vector<Vec2i> dual_points(const sim::FemModel& model, mesh::SurfaceMesh& km) {
     const mesh::SurfaceMesh& dm = model.mesh();
     const mesh::Surface& surface = model.surface();
-    const std::size_t nv = dm.num_vertices(), nf = dm.num_faces();
-    const double t = model.time();
-    const Mat3 G = Mat3::Identity() + t * model.growth().tensor();
-
-    CrackPattern p;
-    p.method = "graph-fem";
-    p.surface = surface;
-    p.final_time = t;
-    p.elements_initial = elements_initial;
-    p.growth_map = G;
-    p.poisson_ratio = model.poisson_ratio();
-    mesh::SurfaceMesh& km = p.mesh;
-    km.periodic = dm.periodic;
-    km.period = dm.period;
-    km.period_vectors = dm.period_vectors;
-    // Vertices: the mesh's, one centroid per face, then one midpoint per broken edge.
-    for (std::size_t v = 0; v < nv; ++v) {
-        km.positions.push_back(dm.positions[vertex_id(v)]);
-        if (dm.periodic) km.domain.push_back(dm.domain[vertex_id(v)]);
-    }
+    const std::size_t nf = dm.num_faces();
     // A face a crack passes through (two broken edges, sharing corner a) gets its dual point
     // halfway between the two edge midpoints, so the crack runs straight across it instead of
     // kinking at the centroid (digest §7.6: smoothing for rendering only; the simulation never
@@ -71,7 +58,16 @@ CrackPattern graph_pattern(const sim::FemModel& model, const EdgeGraph& graph, s
             }
         centroid_offset[f] = add_point(km, dm, surface, face_id(f), w);
     }
+    return centroid_offset;
+}
 
+/// The kites (and the Young's modulus of each in `p`), halved and opened along broken edges.
+Kites kite_mesh(const sim::FemModel& model, const EdgeGraph& graph, const std::vector<Vec2i>& centroid_offset,
+                CrackPattern& p) {
+    const mesh::SurfaceMesh& dm = model.mesh();
+    const mesh::Surface& surface = model.surface();
+    const std::size_t nv = dm.num_vertices();
+    mesh::SurfaceMesh& km = p.mesh;
     // Kites around each corner: for edge a → b of face T (neighbour N), cell a gets (a, d_N, d_T)
     // and cell b (b, d_T, d_N), all in T's frame; a broken edge's kites are halved through its
     // midpoint m and opened along m–d_T and d_N–m (edge 1 of each).
@@ -114,8 +110,17 @@ CrackPattern graph_pattern(const sim::FemModel& model, const EdgeGraph& graph, s
         lips.push_back({i1, i3});
     }
     km.rebuild_adjacency();
-    const std::vector<mesh::VertexId> origin = mesh::cut_along(km, cut);
+    return {mesh::cut_along(km, cut), lips};
+}
 
+/// The kites at the end of the run: every vertex copy at its parents' mean displacement.
+void follow_parents(const sim::FemModel& model, const Mat3& G, const std::vector<mesh::VertexId>& origin,
+                    CrackPattern& p) {
+    const mesh::SurfaceMesh& dm = model.mesh();
+    const mesh::Surface& surface = model.surface();
+    const std::size_t nv = dm.num_vertices();
+    const double t = model.time();
+    const mesh::SurfaceMesh& km = p.mesh;
     // Every vertex copy follows the mean displacement of the mesh vertices whose cells it
     // touches on its side of the cracks (digest §1.14: children follow their parents).
     const std::size_t nk = km.num_vertices();
@@ -152,9 +157,11 @@ CrackPattern graph_pattern(const sim::FemModel& model, const EdgeGraph& graph, s
     }
     for (std::size_t i = 0; i < 2; ++i)
         p.deformed_period[i] = model.growth().period_shift(km.period_vectors[i], t);
-    p.removed.assign(km.num_faces(), 0);
-    label_fragments(p);
+}
 
+/// A crack lip on each side of every opened dual segment.
+void open_lips(const std::vector<std::array<std::size_t, 2>>& lips, CrackPattern& p) {
+    const mesh::SurfaceMesh& km = p.mesh;
     // Crack lips: the dual segments of broken edges, opened by the distance between the deformed
     // midpoints of the two lips; full depth (every Gauss layer loses the strain).
     for (std::size_t i = 0; i < lips.size(); ++i) {
@@ -176,6 +183,39 @@ CrackPattern graph_pattern(const sim::FemModel& model, const EdgeGraph& graph, s
             p.cracks.push_back(c);
         }
     }
+}
+
+} // namespace
+
+CrackPattern graph_pattern(const sim::FemModel& model, const EdgeGraph& graph, std::size_t elements_initial) {
+    const mesh::SurfaceMesh& dm = model.mesh();
+    const mesh::Surface& surface = model.surface();
+    const std::size_t nv = dm.num_vertices();
+    const double t = model.time();
+    const Mat3 G = Mat3::Identity() + t * model.growth().tensor();
+
+    CrackPattern p;
+    p.method = "graph-fem";
+    p.surface = surface;
+    p.final_time = t;
+    p.elements_initial = elements_initial;
+    p.growth_map = G;
+    p.poisson_ratio = model.poisson_ratio();
+    mesh::SurfaceMesh& km = p.mesh;
+    km.periodic = dm.periodic;
+    km.period = dm.period;
+    km.period_vectors = dm.period_vectors;
+    // Vertices: the mesh's, one centroid per face, then one midpoint per broken edge.
+    for (std::size_t v = 0; v < nv; ++v) {
+        km.positions.push_back(dm.positions[vertex_id(v)]);
+        if (dm.periodic) km.domain.push_back(dm.domain[vertex_id(v)]);
+    }
+    const std::vector<Vec2i> centroid_offset = dual_points(model, km);
+    const Kites kites = kite_mesh(model, graph, centroid_offset, p);
+    follow_parents(model, G, kites.origin, p);
+    p.removed.assign(km.num_faces(), 0);
+    label_fragments(p);
+    open_lips(kites.lips, p);
     return p;
 }
 

@@ -1,97 +1,45 @@
-/// @file run_mass_spring: the break loop, its time search (Alg. 5), and the pattern of Voronoi kites (§4.4).
+/// @file run_mass_spring: the break loop and its time search (Alg. 5); the pattern of Voronoi kites
+/// it returns is made in kite_pattern.cpp (§4.4).
 #include "core/progress.hpp"
 #include "core/timer.hpp"
-#include "fracture/mass_spring/mass_spring.hpp"
+#include "fracture/mass_spring/mass_spring_internal.hpp"
 #include "fracture/toolkit/pick.hpp"
-#include "mesh/cut.hpp"
 
 #include <algorithm>
 #include <cmath>
-#include <map>
 
 namespace crackle::fracture {
 
 using mesh::face_id;
-using mesh::FaceId;
-using mesh::ix;
-using mesh::vertex_id;
-
-// === The crack pattern: Voronoi cells of the masses, cut along broken top springs
 
 namespace {
 
-/// The point standing for a Delaunay face in its dual: the circumcentre if it lies inside the
-/// triangle (then the cells are exactly Voronoi), else the centroid (obtuse triangles, whose
-/// circumcentre would fold the cells over).
-Vec3 dual_point(const std::array<Vec3, 3>& p) {
-    const Vec3 a = p[1] - p[0], b = p[2] - p[0];
-    const Vec3 axb = a.cross(b);
-    const Vec3 cc =
-        p[0] + (b.squaredNorm() * axb.cross(a) + a.squaredNorm() * b.cross(axb)) / (2.0 * axb.squaredNorm());
-    // Barycentric coordinates of cc.
-    const double area = axb.norm();
-    auto sub = [&](const Vec3& u, const Vec3& v, const Vec3& w) {
-        return (v - u).cross(w - u).dot(axb) / (area * area);
-    };
-    const double w0 = sub(cc, p[1], p[2]), w1 = sub(p[0], cc, p[2]), w2 = 1.0 - w0 - w1;
-    // Well inside: exact Voronoi. Near an edge (right triangles) the kites would be slivers.
-    if (std::min({w0, w1, w2}) >= 0.05) return cc;
-    return (p[0] + p[1] + p[2]) / 3.0;
-}
+/// The break loop's model and options, and the counters every relaxation adds to.
+struct BreakLoop {
+    MassSpringModel& model;
+    const FractureOptions& options;
+    RunStats& run;
+    MassSpringStats& stats;
+    double dt_min; ///< the time search's resolution
 
-} // namespace
-
-CrackPattern run_mass_spring(MassSpringModel& model, const FractureOptions& options, Rng& rng, RunStats* run_out,
-                             MassSpringStats* stats_out) {
-    RunStats run;
-    MassSpringStats stats;
-    Timer total;
-    EventLog events(options);
-    const double dt_min = options.time_tolerance * options.duration;
-    auto relax = [&]() {
+    void relax() {
         Timer t;
         model.relax(&stats);
         run.solve_seconds += t.seconds();
         ++run.solves;
-    };
-    relax();
-    FractureProgress progress(options.duration, model.mesh().num_faces());
-    const auto& springs = model.springs();
+    }
 
-    auto max_ratio = [&]() {
+    double max_ratio() const {
         double r = 0;
-        for (std::size_t s = 0; s < springs.size(); ++s)
+        for (std::size_t s = 0; s < model.springs().size(); ++s)
             r = std::max(r, model.ratio(s));
         return r;
-    };
+    }
 
-    while (true) {
-        progress.update(model.time(), events.size());
-        double ratio = 0;
-        std::size_t s = 0;
-        // The spring most over its break strain, ties drawn from the seed.
-        if (pick_most_over(
-                springs.size(), [&](std::size_t i) { return model.ratio(i); },
-                [&](std::size_t i) { return !springs[i].broken; }, rng, s, ratio)) {
-            if (events.full(model.time())) break;
-            const auto& sp = springs[s];
-            Event ev;
-            ev.time = model.time();
-            const auto& mesh = model.mesh();
-            const auto p = mesh.face_positions(face_id(sp.face));
-            ev.position = 0.5 * (p[static_cast<std::size_t>(sp.edge)] + p[static_cast<std::size_t>((sp.edge + 1) % 3)]);
-            ev.kind = "break";
-            ev.ratio = ratio;
-            model.break_spring(s);
-            ++stats.breaks;
-            relax();
-            events.add(ev);
-            continue;
-        }
-        if (model.time() >= options.duration) break;
-
-        // === The time of the next break (Alg. 5): predict it from the tangent-linear rates,
-        // solve there, and bisect if the prediction overshot.
+    /// The time of the next break (Alg. 5): predict it from the tangent-linear rates, solve
+    /// there, and bisect if the prediction overshot.
+    void advance_to_next_break() {
+        const auto& springs = model.springs();
         Timer stress_timer;
         const std::vector<double> rates = model.ratio_rates();
         const double t0 = model.time();
@@ -140,158 +88,49 @@ CrackPattern run_mass_spring(MassSpringModel& model, const FractureOptions& opti
             }
         }
     }
+};
+
+} // namespace
+
+CrackPattern run_mass_spring(MassSpringModel& model, const FractureOptions& options, Rng& rng, RunStats* run_out,
+                             MassSpringStats* stats_out) {
+    RunStats run;
+    MassSpringStats stats;
+    Timer total;
+    EventLog events(options);
+    BreakLoop loop{model, options, run, stats, options.time_tolerance * options.duration};
+    loop.relax();
+    FractureProgress progress(options.duration, model.mesh().num_faces());
+    const auto& springs = model.springs();
+    while (true) {
+        progress.update(model.time(), events.size());
+        double ratio = 0;
+        std::size_t s = 0;
+        // The spring most over its break strain, ties drawn from the seed.
+        if (pick_most_over(
+                springs.size(), [&](std::size_t i) { return model.ratio(i); },
+                [&](std::size_t i) { return !springs[i].broken; }, rng, s, ratio)) {
+            if (events.full(model.time())) break;
+            const auto& sp = springs[s];
+            Event ev;
+            ev.time = model.time();
+            const auto& mesh = model.mesh();
+            const auto p = mesh.face_positions(face_id(sp.face));
+            ev.position = 0.5 * (p[static_cast<std::size_t>(sp.edge)] + p[static_cast<std::size_t>((sp.edge + 1) % 3)]);
+            ev.kind = "break";
+            ev.ratio = ratio;
+            model.break_spring(s);
+            ++stats.breaks;
+            loop.relax();
+            events.add(ev);
+            continue;
+        }
+        if (model.time() >= options.duration) break;
+        loop.advance_to_next_break();
+    }
     progress.finish();
 
-    // === Pattern: kites of the Voronoi dual (one per Delaunay edge side), cut along the
-    // Voronoi edges of broken top-layer springs
-    const auto& dm = model.mesh();
-    const mesh::Surface& surface = model.surface();
-    const std::size_t nv = dm.num_vertices(), nf = dm.num_faces();
-    const int L = model.layers();
-    const double t_end = model.time();
-    const Mat3 G = Mat3::Identity() + t_end * model.growth().tensor();
-
-    CrackPattern p;
-    p.method = "mass-spring";
-    p.surface = surface;
-    p.final_time = t_end;
-    p.elements_initial = springs.size() / static_cast<std::size_t>(L);
-    p.growth_map = G;
-    p.poisson_ratio = model.poisson_ratio();
-    mesh::SurfaceMesh& km = p.mesh;
-    km.periodic = dm.periodic;
-    km.period = dm.period;
-    km.period_vectors = dm.period_vectors;
-    // Vertices: the masses, then one dual point per Delaunay face.
-    std::vector<Vec2i> dual_offset(nf, Vec2i::Zero());
-    for (std::size_t v = 0; v < nv; ++v) {
-        km.positions.push_back(dm.positions[vertex_id(v)]);
-        if (dm.periodic) km.domain.push_back(dm.domain[vertex_id(v)]);
-    }
-    for (std::size_t fi = 0; fi < nf; ++fi) {
-        const FaceId f = face_id(fi);
-        const Vec3 d3 = dual_point(dm.face_positions(f));
-        if (dm.periodic) {
-            // The same point in the unrolled domain: barycentric weights carry over.
-            const Vec2 a = dm.corner_domain(f, 0), b = dm.corner_domain(f, 1), c = dm.corner_domain(f, 2);
-            const auto pos = dm.face_positions(f);
-            const Vec3 n = (pos[1] - pos[0]).cross(pos[2] - pos[0]);
-            const double w0 = (pos[1] - d3).cross(pos[2] - d3).dot(n) / n.squaredNorm();
-            const double w1 = (pos[2] - d3).cross(pos[0] - d3).dot(n) / n.squaredNorm();
-            const Vec2 unwrapped = w0 * a + w1 * b + (1 - w0 - w1) * c;
-            const Vec2 canonical(wrap(unwrapped.x(), dm.period.x()), wrap(unwrapped.y(), dm.period.y()));
-            dual_offset[fi] = Vec2i(static_cast<int>(std::lround((unwrapped.x() - canonical.x()) / dm.period.x())),
-                                    static_cast<int>(std::lround((unwrapped.y() - canonical.y()) / dm.period.y())));
-            km.domain.push_back(canonical);
-            km.positions.push_back(surface.position(canonical));
-        } else {
-            km.positions.push_back(surface.project(d3));
-        }
-    }
-    // Kites: for Delaunay edge a → b of face T (neighbour T'), cell a gets (a, d_T', d_T) and
-    // cell b gets (b, d_T, d_T'); the Voronoi edge d_T–d_T' separates them.
-    std::vector<std::array<char, 3>> cut;
-    std::vector<std::size_t> kite_spring; // top-layer spring of each kite's Voronoi edge
-    std::map<std::pair<std::uint32_t, int>, std::size_t> spring_index;
-    for (std::size_t si = 0; si < springs.size(); ++si)
-        if (springs[si].layer == L - 1) spring_index[{springs[si].face, springs[si].edge}] = si;
-    for (const auto& [key, si] : spring_index) {
-        const FaceId T = face_id(key.first);
-        const int k = key.second;
-        const mesh::FaceNeighbor nb = dm.neighbor(T, k);
-        if (nb.face == mesh::NO_FACE) continue;
-        const mesh::Face& ft = dm.faces[T];
-        const mesh::Face& fn = dm.faces[nb.face];
-        const auto ka = static_cast<std::size_t>(k), kb = static_cast<std::size_t>((k + 1) % 3);
-        // d_T' in T's frame: shift by the offset difference of the shared corner a.
-        const Vec2i shift_n = ft.offset[ka] - fn.offset[static_cast<std::size_t>((nb.edge + 1) % 3)];
-        const mesh::VertexId dT = vertex_id(nv + ix(T)), dN = vertex_id(nv + ix(nb.face));
-        const Vec2i oT = dual_offset[ix(T)], oN = dual_offset[ix(nb.face)] + shift_n;
-        mesh::Face cell_a, cell_b;
-        cell_a.v = {ft.v[ka], dN, dT};
-        cell_a.offset = {ft.offset[ka], oN, oT};
-        cell_b.v = {ft.v[kb], dT, dN};
-        cell_b.offset = {ft.offset[kb], oT, oN};
-        const bool broken = springs[si].broken;
-        km.faces.push_back(cell_a);
-        km.faces.push_back(cell_b);
-        // The Voronoi edge is edge 1 of both kites (corner 1 → corner 2).
-        cut.push_back({0, static_cast<char>(broken), 0});
-        cut.push_back({0, static_cast<char>(broken), 0});
-        kite_spring.push_back(si);
-        kite_spring.push_back(si);
-    }
-    km.rebuild_adjacency();
-    const std::vector<mesh::VertexId> origin = mesh::cut_along(km, cut);
-
-    // === Deformed positions: the top of the layer moved with its masses; dual points take
-    // the mean displacement of their face's masses.
-    std::vector<Vec3> displacement(nv);
-    for (std::size_t v = 0; v < nv; ++v) {
-        const Vec3 bottom = G * dm.positions[vertex_id(v)];
-        const Vec3 n = (G.inverse().transpose() * surface.normal(dm.positions[vertex_id(v)])).normalized();
-        displacement[v] =
-            model.position(static_cast<std::size_t>(L - 1) * nv + v) - bottom - (L - 1) * model.layer_thickness() * n;
-    }
-    const std::size_t nk = km.num_vertices();
-    p.deformed.resize(nk);
-    p.thickness.resize(nk);
-    for (std::size_t k = 0; k < nk; ++k) {
-        const std::size_t o = ix(origin[k]);
-        const Vec3 P0 = km.positions[vertex_id(k)];
-        const Vec3 n = (G.inverse().transpose() * surface.normal(P0)).normalized();
-        Vec3 u = Vec3::Zero();
-        double h = 0;
-        if (o < nv) {
-            u = displacement[o];
-            h = model.vertex_thickness(o);
-        } else {
-            for (mesh::VertexId w : dm.faces[face_id(o - nv)].v) {
-                u += displacement[ix(w)] / 3.0;
-                h += model.vertex_thickness(ix(w)) / 3.0;
-            }
-        }
-        p.thickness[k] = h;
-        p.deformed[k] = G * P0 + u + h * n;
-    }
-    for (int i = 0; i < 2; ++i)
-        p.deformed_period[static_cast<std::size_t>(i)] = G * km.period_vectors[static_cast<std::size_t>(i)];
-    p.removed.assign(km.num_faces(), 0);
-    p.young_modulus.resize(km.num_faces());
-    for (std::size_t f = 0; f < km.num_faces(); ++f)
-        p.young_modulus[f] = model.young_modulus(ix(origin[ix(km.faces[face_id(f)].v[0])]));
-    label_fragments(p);
-
-    // === Crack lips: depth = broken layers counted down from the top
-    std::map<std::pair<std::uint32_t, int>, std::vector<std::size_t>> layers_of_edge;
-    for (std::size_t si = 0; si < springs.size(); ++si)
-        layers_of_edge[{springs[si].face, springs[si].edge}].push_back(si);
-    // A crack lip per kite whose Voronoi edge opened. A spring broken alone (both its Voronoi
-    // vertices crack tips, e.g. the ladders of parallel breaks a load along a lattice direction
-    // makes) is micro-damage: the cells stay joined around it, nothing opens, and it is neither
-    // drawn nor counted.
-    for (std::size_t f = 0; f < km.num_faces(); ++f) {
-        const auto& top = springs[kite_spring[f]];
-        if (!top.broken || km.neighbor(face_id(f), 1).face != mesh::NO_FACE) continue;
-        const auto& column = layers_of_edge[{top.face, top.edge}];
-        int depth_layers = 0;
-        for (int l = L - 1; l >= 0; --l) {
-            const auto it =
-                std::find_if(column.begin(), column.end(), [&](std::size_t si) { return springs[si].layer == l; });
-            if (it == column.end() || !springs[*it].broken) break;
-            ++depth_layers;
-        }
-        CrackEdge c;
-        c.face = face_id(f);
-        c.edge = 1;
-        const Vec3 d = model.position(top.b)
-                       + G * (top.offset.x() * dm.period_vectors[0] + top.offset.y() * dm.period_vectors[1])
-                       - model.position(top.a);
-        c.opening = std::max(0.0, d.norm() - top.rest0);
-        c.depth = depth_layers * model.layer_thickness();
-        p.cracks.push_back(c);
-        if (f % 2 == 0) stats.crack_depth_layers.push_back(depth_layers);
-    }
+    CrackPattern p = kite_pattern(model, stats);
     stats.factorizations = model.factorizations();
     stats.downdates = model.downdates();
     p.events_capped = events.capped();

@@ -36,6 +36,7 @@ struct MassSpringOptions {
     double break_jitter = 0.0;       ///< break strains perturbed uniformly by ±jitter (relative)
     double tolerance = 1e-8;         ///< Newton: largest nodal force / (k·L·ε_b) of a typical spring
     int max_newton_iterations = 100; ///< per relaxation
+    bool operator==(const MassSpringOptions&) const = default; ///< every field: the options test compares whole structs
 };
 
 /// Per-run statistics particular to mass–spring.

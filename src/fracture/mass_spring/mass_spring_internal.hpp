@@ -40,4 +40,9 @@ struct MassSpringModel::Solver {
     std::size_t factorizations = 0, downdates = 0;
 };
 
+/// The crack pattern of a finished run (kite_pattern.cpp, §4.4-4.5): the masses' Voronoi cells
+/// as kites cut along broken top-layer springs, at their final places, with the crack lips and
+/// their depths (counted into `stats.crack_depth_layers`). Events are the loop's to add.
+CrackPattern kite_pattern(const MassSpringModel& model, MassSpringStats& stats);
+
 } // namespace crackle::fracture

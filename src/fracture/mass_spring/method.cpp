@@ -4,6 +4,7 @@
 #include "fracture/mass_spring/mass_spring.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <map>
 
 namespace crackle::fracture {
@@ -110,6 +111,18 @@ MethodInfo mass_spring_method() {
     info.description = "mass-spring (the thesis' first model: lattice-biased, resolution-dependent)";
     info.keys = mass_spring_keys();
     info.make = [](const Settings& s) { return std::make_unique<MassSpring>(mass_spring_options(s)); };
+    // 201 MB at 32000 elements with one layer and 1256 MB with four (`/usr/bin/time -f %M crackle -q
+    // simulate mud --no-cache --set simulation.method=mass-spring --set simulation.elements=32000
+    // --set simulation.duration=0.3`, 2026-12-03): the lattice's direct factor fills in like
+    // layers^1.6.
+    info.bytes_per_element = [](const Settings& s) {
+        const double layers = static_cast<double>(std::max<std::int64_t>(1, s.integer("simulation.layers")));
+        return 6.0e3 * std::pow(layers, 1.6);
+    };
+    // A global Newton solve per break: 16000 elements (8000 masses) would take about 20 min a run
+    // (docs/benchmarks.md, "Mass-spring"), so the full study stops at 8000.
+    info.study = {{"mass-spring-regular", {"simulation.lattice=regular"}, 3.0, 8000},
+                  {"mass-spring-random", {"simulation.lattice=random"}, 3.0, 8000}};
     return info;
 }
 

@@ -7,6 +7,15 @@
 
 namespace crackle::fracture {
 
+/// Peak bytes per initial element of a run on the wedge layer, for the run budget. Measured with
+/// `/usr/bin/time -f %M crackle -q simulate mud --no-cache --set simulation.elements=N --set
+/// simulation.duration=0.3` (2026-12-03): 74 MB at 2000 elements, 197 MB at 32000 (cg), 223 MB with
+/// the direct solver, 684 MB at 128000 direct. Cracks add elements as a run goes (fem-split), hence
+/// the margin.
+inline double wedge_layer_bytes_per_element(const Settings& s) {
+    return s.text("simulation.solver") == "direct" ? 7.5e3 : 6.5e3;
+}
+
 /// Runs `loop(model, rng, result)` (which sets result.pattern, .run, .details, .summary) on the
 /// scene's wedge layer; fills the sizes and appends "assembly", "fracture" and its phases.
 template <class Loop> MethodResult run_on_wedge_layer(const MethodInputs& in, StepTimes& times, Loop&& loop) {

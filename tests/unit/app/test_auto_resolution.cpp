@@ -3,7 +3,7 @@
 // gives pattern statistics within the texture user's tolerance of the converged reference
 // (shown converged in docs/accuracy.md), averaged over seeds, on the plane (mud) and the cylinder
 // (bark); the preview's reduced model keeps within its own, looser bounds and really is reduced.
-#include "app/study_metrics.hpp"
+#include "app/bench/study_metrics.hpp"
 #include "core/json.hpp"
 #include "io/resolution.hpp"
 #include "support/cli_runner.hpp"

@@ -1,7 +1,7 @@
 // Batches (issue 14): seed lists, output names, manifests, shards (and the Slurm and Kubernetes
 // files in docs/farm/ that drive them), idempotent reruns after a kill -9, and the merge.
-#include "app/batch.hpp"
-#include "app/naming.hpp"
+#include "app/run/batch.hpp"
+#include "app/run/naming.hpp"
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
 #include "core/json.hpp"

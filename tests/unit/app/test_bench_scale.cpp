@@ -1,6 +1,6 @@
 // `crackle bench scale`: the log-log slope it reports, its argument checks, and a quick run end to
 // end through the real binary (one CSV row per point, sizes as asked, the chart drawn).
-#include "app/bench_scale.hpp"
+#include "app/bench/bench_scale.hpp"
 #include "io/png.hpp"
 #include "support/cli_runner.hpp"
 

@@ -2,7 +2,7 @@
 /// run that cannot fit, the watchdog that stops one that outgrows its budget (at the next check,
 /// or at once after a grace period when a step never checks), and that a budget never changes
 /// what a finished run writes.
-#include "app/run_budget.hpp"
+#include "app/run/run_budget.hpp"
 #include "core/budget.hpp"
 #include "io/preset.hpp"
 #include "support/cli_runner.hpp"

@@ -42,6 +42,36 @@ TEST_SUITE("app") {
         CHECK(unknown.code == 2);
     }
 
+    TEST_CASE("cli: bench has explicit subcommands (study, speedup, scale, micro) and still takes the older forms") {
+        const auto help = run_cli({"bench", "--help"});
+        CHECK(help.code == 0);
+        for (const char* sub : {"study", "speedup", "scale", "micro"})
+            CHECK(contains(help.out, sub));
+        // Names are checked before anything runs, in the new form and the old alike.
+        for (const std::vector<std::string>& args :
+             {std::vector<std::string>{"bench", "micro", "nothing"}, std::vector<std::string>{"bench", "nothing"}}) {
+            const auto r = run_cli(args);
+            CHECK(r.code == 2);
+            CHECK(contains(r.err, "unknown scene 'nothing'"));
+            CHECK(contains(r.err, "solve, local"));
+        }
+        for (const std::vector<std::string>& args : {std::vector<std::string>{"bench", "study", "--methods", "nope"},
+                                                     std::vector<std::string>{"bench", "--methods", "nope"}}) {
+            const auto r = run_cli(args);
+            CHECK(r.code == 2);
+            CHECK(contains(r.err, "unknown method 'nope'"));
+            CHECK(contains(r.err, "fem-split-tip")); // the list comes from the method registry
+        }
+        CHECK(contains(run_cli({"bench", "speedup", "--baseline", "/no/such/crackle"}).err, "not an executable"));
+        // A micro-benchmark runs the same by either name.
+        const auto micro = run_cli({"-q", "bench", "micro", "solve", "--quick"});
+        const auto old = run_cli({"-q", "bench", "solve", "--quick"});
+        CHECK(micro.code == 0);
+        CHECK(old.code == 0);
+        CHECK(contains(micro.out, "| 2000 |"));
+        CHECK(contains(old.out, "| 2000 |"));
+    }
+
     TEST_CASE("cli: global flags are taken before or after the subcommand") {
         // -q after the subcommand silences the summary exactly as before it does.
         const auto before = run_cli({"-q", "mesh", "mud", "--set", "simulation.elements=300"});

@@ -1,7 +1,7 @@
 // Crack-pattern files and the pattern cache (issue 14): a bake from a saved pattern is the bake
 // straight after the simulation, byte for byte, on all three surfaces; damaged files are refused;
 // the cache serves a pattern only for the same simulation keys, seed and build.
-#include "app/pattern_store.hpp"
+#include "app/run/pattern_store.hpp"
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
 #include "core/json.hpp"

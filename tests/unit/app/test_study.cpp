@@ -1,11 +1,11 @@
 // The speed-vs-accuracy study: its metrics, its closed forms (the bonded film on the plane, the
 // cylinder and the sphere, checked against the FEM runs), its argument checks, and the quick
 // study end to end through the real binary (CSV and charts produced and well formed).
-#include "app/options.hpp"
-#include "app/scene.hpp"
-#include "app/study.hpp"
-#include "app/study_metrics.hpp"
-#include "app/study_plan.hpp"
+#include "app/bench/study.hpp"
+#include "app/bench/study_metrics.hpp"
+#include "app/bench/study_plan.hpp"
+#include "app/run/options.hpp"
+#include "app/run/scene.hpp"
 #include "core/error.hpp"
 #include "core/json.hpp"
 #include "core/rng.hpp"

@@ -1,5 +1,5 @@
 // `crackle bake --watch`: re-bakes when the preset file changes, survives a bad preset, stops on request.
-#include "app/watch.hpp"
+#include "app/commands/watch.hpp"
 #include "support/cli_runner.hpp"
 #include "support/gl_support.hpp"
 

@@ -1,8 +1,8 @@
 // The crack network as chains for the bake's curves (post/crack_network): every crack once, in
 // chains that run through junctions straight on and end at tips and at the junctions they stop
 // on, with their openings measured between the right lips, on the plane, cylinder and sphere.
-#include "app/options.hpp"
-#include "app/pipeline.hpp"
+#include "app/run/options.hpp"
+#include "app/run/pipeline.hpp"
 #include "io/preset.hpp"
 #include "post/pieces.hpp"
 #include "render/crack_curves.hpp"

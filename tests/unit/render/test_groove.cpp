@@ -2,8 +2,8 @@
 // is monotone, reaches its depth on the floor and turns its slope by a bounded angle per pixel;
 // the scan finds what an exhaustive scan finds, the curl's lift on its grid matches every pixel's;
 // where cracks meet, the height has no crease. The bakes of the presets: test_groove_bake.cpp.
-#include "app/options.hpp"
-#include "app/pipeline.hpp"
+#include "app/run/options.hpp"
+#include "app/run/pipeline.hpp"
 #include "fracture/statistics.hpp"
 #include "io/preset.hpp"
 #include "render/bake.hpp"

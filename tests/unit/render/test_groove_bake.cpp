@@ -3,8 +3,8 @@
 // of them, with no kinks at the element-length vertices; baked mud, bark and fruit at 2048² show
 // no faceted walls or steps next to the cracks; the grooves keep their shape in metres at every
 // map size; the Mask keeps the pieces and the junctions where they meet.
-#include "app/options.hpp"
-#include "app/pipeline.hpp"
+#include "app/run/options.hpp"
+#include "app/run/pipeline.hpp"
 #include "fracture/statistics.hpp"
 #include "io/preset.hpp"
 #include "render/bake.hpp"

@@ -1,6 +1,6 @@
 // Plate profiles of the curves bake (issue 35): drying mud plates are flat topped, not domes
 // rounding down from their middles to their rims.
-#include "app/options.hpp"
+#include "app/run/options.hpp"
 #include "render/bake.hpp"
 #include "support/gl_support.hpp"
 #include "support/presets.hpp"

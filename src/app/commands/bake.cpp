@@ -1,0 +1,99 @@
+#include "app/commands/bake.hpp"
+
+#include "app/run/bake_run.hpp"
+#include "app/run/batch.hpp"
+#include "app/run/report.hpp"
+#include "app/run/run_budget.hpp"
+#include "core/atomic_file.hpp"
+#include "core/error.hpp"
+#include "core/log.hpp"
+#include "core/timer.hpp"
+#include "io/mesh_files.hpp"
+#include "io/resolution.hpp"
+
+namespace crackle::app {
+
+namespace {
+
+/// --maps and --bit-depth are shorthands for the preset keys.
+io::PresetRequest bake_request(const BakeArgs& args) {
+    io::PresetRequest request = args.preset;
+    if (!args.maps.empty()) request.overrides.push_back("bake.maps=\"" + args.maps + "\"");
+    if (!args.bit_depth.empty()) request.overrides.push_back("bake.bit_depth=\"" + args.bit_depth + "\"");
+    return request;
+}
+
+/// The bake's preset; --preview swaps in the reduced model once the preset's own values are known.
+io::Preset load_bake_preset(const BakeArgs& args) {
+    const io::Preset full = io::load_preset(with_bake_overrides(bake_request(args), args.size, args.preview));
+    return args.preview ? preview_preset(full) : full;
+}
+
+BakeOutputs bake_outputs(const BakeArgs& args) {
+    BakeOutputs o;
+    o.dir = args.out_dir.empty() ? std::filesystem::path("out") : std::filesystem::path(args.out_dir);
+    o.name_pattern = args.name;
+    o.meshes = args.meshes;
+    o.split_pieces = args.split_pieces;
+    o.json_path = args.json_path;
+    return o;
+}
+
+/// `bake --seeds` / `--shard`: a batch of one preset over a seed list.
+int bake_seeds(const BakeArgs& args, const GlobalOptions& global, std::ostream& out) {
+    if (args.preview || args.watch || !args.json_path.empty())
+        throw InputError("--seeds", "a seed list writes one report per seed beside its maps",
+                         "leave out --preview, --watch and --json with --seeds");
+    std::vector<Variant> variants;
+    const io::PresetRequest base = bake_request(args);
+    for (const std::uint64_t seed : parse_seed_list(args.seeds.empty() ? "" : args.seeds, "--seeds " + args.seeds)) {
+        Variant v;
+        v.index = variants.size();
+        v.preset = base;
+        v.preset.seed = static_cast<std::int64_t>(seed);
+        v.name = args.name;
+        v.where = "--seeds (seed " + std::to_string(seed) + ")";
+        variants.push_back(std::move(v));
+    }
+    BatchOptions options;
+    options.out_dir = bake_outputs(args).dir;
+    options.size = args.size;
+    options.outputs = bake_outputs(args);
+    options.outputs.json_path.clear();
+    options.shader_dir = args.shader_dir;
+    options.pattern = {args.pattern_path, !args.no_cache};
+    options.shard = resolve_shard(args.shard);
+    return run_batch(variants, options, global, out);
+}
+
+} // namespace
+
+int bake_command(const BakeArgs& args, const GlobalOptions& global, std::ostream& out) {
+    if (!args.seeds.empty() || !args.shard.empty()) {
+        if (args.seeds.empty())
+            throw InputError("--shard " + args.shard, "a shard of nothing",
+                             "give --seeds 1-100 (or use crackle batch)");
+        return bake_seeds(args, global, out);
+    }
+    StepTimes times;
+    const io::Preset preset = load_bake_preset(args);
+    const BakeOutputs outputs = bake_outputs(args);
+    const OutputNames names = bake_names(preset, outputs, "", !args.name.empty());
+    Baked b;
+    const Json report =
+        bake_one(preset, outputs, names, args.shader_dir, {args.pattern_path, !args.no_cache}, times, &b);
+
+    if (!global.quiet) {
+        out << "crackle bake: " << preset.name << " (" << mesh::to_string(b.sim.scene->surface.kind()) << ", "
+            << b.sim.pattern.method << "), seed " << b.sim.scene->seed << ", " << b.maps.width << "×"
+            << b.maps.height_px << " px\n";
+        print_simulation(out, preset, b.sim);
+        out << "  maps         " << report.find("files")->elements().size() << " files in " << outputs.dir.string()
+            << "/ (" << names.base() << " ...); displacement 1.0 = " << fmt("%.4g", b.maps.height_scale * 1000)
+            << " mm\n";
+        print_times(out, times);
+    }
+    return 0;
+}
+
+} // namespace crackle::app

@@ -1,0 +1,157 @@
+#include "app/run/bake_run.hpp"
+
+#include "app/run/options.hpp"
+#include "app/run/report.hpp"
+#include "app/run/run_budget.hpp"
+#include "app/run/run_plan.hpp"
+#include "core/atomic_file.hpp"
+#include "core/error.hpp"
+#include "core/log.hpp"
+#include "core/timer.hpp"
+#include "fracture/method.hpp"
+#include "io/mesh_files.hpp"
+#include "io/resolution.hpp"
+#include "render/bake.hpp"
+#include "render/gl_context.hpp"
+
+#include <set>
+
+namespace crackle::app {
+
+Baked bake_pipeline(const io::Preset& preset, const RunPlan& plan, StepTimes& times, const std::string& shader_dir,
+                    const PatternOptions& pattern) {
+    if (!shader_dir.empty())
+        for (const char* name : {"common.glsl", "bake.vert", "bake.frag", "id.frag", "fullscreen.vert", "ao.frag"})
+            if (!std::filesystem::is_regular_file(std::filesystem::path(shader_dir) / name))
+                throw InputError("--shader-dir " + shader_dir, std::string("no ") + name + " there",
+                                 "point it at a copy of the shaders/ folder");
+    Baked b;
+    b.sim = obtain_simulation(preset, plan, pattern, times);
+    Timer step;
+    b.pieces = post::build_pieces(b.sim.pattern, post_options(preset));
+    times.emplace_back("post", step.seconds());
+    progress_stage("bake");
+    step.reset();
+    render::GlContext context;
+    times.emplace_back("gl_context", step.seconds());
+    step.reset();
+    render::BakeOptions options = bake_options(preset, b.pieces);
+    options.shader_dir = shader_dir;
+    b.maps = render::bake(b.pieces, options, context);
+    times.emplace_back("bake", step.seconds());
+    times.emplace_back("bake.render", b.maps.render_seconds);
+    times.emplace_back("bake.readback", b.maps.readback_seconds);
+    times.emplace_back("bake.ambient_occlusion", b.maps.ao_seconds);
+    return b;
+}
+
+OutputNames bake_names(const io::Preset& preset, const BakeOutputs& outputs, const std::string& variant,
+                       bool pattern_wins) {
+    const NameFields fields{preset_file_name(preset.name),
+                            static_cast<std::uint64_t>(preset.integer("simulation.seed")), variant};
+    if (!pattern_wins && !preset.text("bake.name").empty())
+        return OutputNames(preset.text("bake.name"), fields, preset.entry("bake.name").source.text());
+    return OutputNames(outputs.name_pattern.empty() ? "{preset}" : outputs.name_pattern, fields, outputs.name_where);
+}
+
+std::vector<io::MapRequest> bake_maps(const io::Preset& preset) {
+    return io::parse_map_requests(preset.text("bake.maps"), preset.text("bake.bit_depth"),
+                                  preset.entry("bake.maps").source.text(),
+                                  preset.entry("bake.bit_depth").source.text());
+}
+
+Json bake_one(const io::Preset& preset, const BakeOutputs& outputs, const OutputNames& names,
+              const std::string& shader_dir, const PatternOptions& pattern, StepTimes& times, Baked* keep) {
+    Timer total, step;
+    const std::vector<io::MapRequest> requests = bake_maps(preset);
+    // Where the files go is checked before any work (issue 16: a bad --out was found only after
+    // the whole simulation and bake).
+    check_output_path(outputs.dir / (names.base() + ".png"), "--out");
+    if (!outputs.json_path.empty()) check_output_path(outputs.json_path, "--json");
+    const RunPlan plan = make_run_plan(preset);
+    const RunBudget budget(preset, plan, true, "the bake of " + names.base());
+    const ProgressPlan progress(progress_stages(plan, true));
+    Baked b = bake_pipeline(preset, plan, times, shader_dir, pattern);
+    progress_stage("encode");
+
+    double encode = 0;
+    const std::vector<io::EncodedMap> maps = io::encode_maps(b.maps, requests, preset.flag("bake.exr"), &encode);
+    times.emplace_back("encode", encode);
+    progress_stage("write");
+    AtomicOutput output;
+    Json files = Json::array();
+    std::set<std::filesystem::path> written;
+    auto write = [&](const std::filesystem::path& path, const std::vector<std::uint8_t>& bytes) {
+        // A mesh's .gltf/.obj maps are the bake's own files: written once.
+        if (!written.insert(path.lexically_normal()).second) return;
+        output.write(path, bytes);
+        files.push_back(path.string());
+    };
+    for (const io::EncodedMap& m : maps)
+        write(names.map_file(outputs.dir, m), m.bytes);
+    for (const std::string& format : outputs.meshes) {
+        step.reset();
+        const std::filesystem::path file = outputs.dir / (names.base() + "." + format);
+        for (io::OutputFile& f :
+             io::mesh_files(b.pieces, b.maps, maps, file, io::MeshFileOptions{format, outputs.split_pieces}))
+            write(f.path, f.bytes);
+        times.emplace_back("mesh." + format, step.seconds());
+    }
+    times.emplace_back("total", total.seconds());
+
+    Json report = simulation_report(preset, b.sim, times);
+    report["command"] = "bake";
+    report["size"] = std::max(b.maps.width, b.maps.height_px);
+    report["width"] = b.maps.width;
+    report["height"] = b.maps.height_px;
+    report["displacement_scale_m"] = b.maps.height_scale;
+    Json chosen = Json::array();
+    for (const io::MapRequest& m : requests)
+        chosen.push_back(m.name + "=" + std::to_string(m.bits));
+    report["maps"] = chosen;
+    report["files"] = files;
+    if (!outputs.variant_key.empty()) report["variant_key"] = outputs.variant_key;
+    if (!outputs.json_path.empty()) output.write(outputs.json_path, report.dump());
+    // Last: a report beside the maps says the whole set is in place.
+    if (outputs.report_beside) output.write(outputs.dir / (names.base() + ".json"), report.dump());
+    output.commit();
+    if (keep) *keep = std::move(b);
+    return report;
+}
+
+std::optional<std::pair<int, int>> parse_map_size(const std::string& text) {
+    int w = 0, h = 0;
+    char x = 0, extra = 0;
+    const int n = std::sscanf(text.c_str(), "%d%c%d%c", &w, &x, &h, &extra);
+    auto ok = [](int side) { return side >= 16 && side <= 16384; };
+    if (n == 1 && ok(w)) return std::make_pair(w, 0);
+    if (n == 3 && (x == 'x' || x == 'X') && ok(w) && ok(h)) return std::make_pair(w, h);
+    return std::nullopt;
+}
+
+io::PresetRequest with_bake_overrides(io::PresetRequest request, const std::string& size, bool preview) {
+    if (preview) {
+        request.overrides.insert(request.overrides.begin(), "bake.size=512");
+        request.overrides.insert(request.overrides.begin(), "bake.samples=2");
+    }
+    if (!size.empty()) {
+        const auto parsed = parse_map_size(size);
+        if (!parsed)
+            throw InputError("--size " + size, "not a map size",
+                             "give the longer side in pixels (2048) or width x height (2048x1024), 16 to 16384 each");
+        request.overrides.push_back("bake.size=" + std::to_string(parsed->first));
+        request.overrides.push_back("bake.size_v=" + std::to_string(parsed->second));
+    }
+    return request;
+}
+
+io::Preset preview_preset(const io::Preset& full) {
+    const io::ElementCount reduced = make_run_plan(full, true).elements;
+    std::vector<std::string> overrides = {"simulation.elements=" + std::to_string(reduced.elements)};
+    for (const std::string& o : fracture::find_method(full.text("simulation.method"))->preview_overrides)
+        overrides.push_back(o);
+    if (reduced.automatic) log::info(reduced.reason);
+    return io::with_overrides(full, overrides);
+}
+
+} // namespace crackle::app
