@@ -29,10 +29,7 @@ Group gather(const post::PieceMesh& pieces, const std::vector<std::size_t>& tria
             }
             tri[k] = local[v];
         }
-        // Counter-clockwise seen from outside, i.e. from where the stored normals point: the
-        // pieces' walls and floor keep one corner order whichever way they face.
-        const Vec3 face = (g.position[tri[1]] - g.position[tri[0]]).cross(g.position[tri[2]] - g.position[tri[0]]);
-        if (face.dot(g.normal[tri[0]] + g.normal[tri[1]] + g.normal[tri[2]]) < 0) std::swap(tri[1], tri[2]);
+        // post::build_pieces winds every triangle counter-clockwise seen from outside.
         g.triangles.push_back(tri);
     }
     return g;

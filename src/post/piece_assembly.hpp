@@ -50,7 +50,8 @@ inline Vec2 metric_at(const mesh::Surface& s, const Vec3& p0) {
 }
 
 /// Step 5: the tops (smooth normals per piece), a wall at every crack lip (a ledge where a crack
-/// stops inside the layer) and the floor under removed elements, appended to `out`.
+/// stops inside the layer) and the floor under removed elements, appended to `out`. Every
+/// triangle is counter-clockwise seen from outside.
 void add_triangles(const fracture::CrackPattern& p, const PieceTopology& topo, const std::vector<Top>& tops,
                    const std::vector<double>& thickness, const CrackTimes& times, PieceMesh& out);
 

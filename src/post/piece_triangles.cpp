@@ -1,7 +1,8 @@
 // Step 5 of post::build_pieces (§4.5, Figs. 4.10-4.11): the pieces' triangles. Tops keep one
 // vertex per piece and periodic offset, so smooth normals stay per piece; every crack lip gets a
 // wall down to the crack's depth, a crack that stops inside the layer a ledge there, removed
-// elements a floor.
+// elements a floor. Every triangle winds counter-clockwise seen from outside (a test checks it on
+// the plane, the cylinder and the sphere).
 #include "core/log.hpp"
 #include "post/piece_assembly.hpp"
 
@@ -195,7 +196,11 @@ struct TriangleBuilder {
         if (nt.dot(right_tex) < 0) nt = -nt;
         const Vec3 up_world = (a.position - d.position);
         const Vec3 right_world = (b.position - a.position).cross(up_world);
-        if (nw.dot(right_world) < 0) nw = -nw;
+        // The corners a, b, c, d wind about nw; when that points into the piece the triangles
+        // take them the other way round, so that every wall is counter-clockwise seen from
+        // outside (where its normal points), as the tops and the floor are.
+        const bool inward = nw.dot(right_world) < 0;
+        if (inward) nw = -nw;
         nt = nt.norm() > 0 ? Vec3(nt.normalized()) : Vec3::UnitX();
         nw = nw.norm() > 0 ? Vec3(nw.normalized()) : Vec3::UnitX();
         const auto base = static_cast<std::uint32_t>(out.vertices.size());
@@ -205,8 +210,13 @@ struct TriangleBuilder {
             v->crack = 1.0f;
             out.vertices.push_back(*v);
         }
-        out.triangles.push_back({base, base + 1, base + 2});
-        out.triangles.push_back({base, base + 2, base + 3});
+        if (inward) {
+            out.triangles.push_back({base, base + 2, base + 1});
+            out.triangles.push_back({base, base + 3, base + 2});
+        } else {
+            out.triangles.push_back({base, base + 1, base + 2});
+            out.triangles.push_back({base, base + 2, base + 3});
+        }
         out.lips.push_back({base, base + 1});
     }
 

@@ -47,6 +47,8 @@ struct PieceVertex {
 
 struct PieceMesh {
     std::vector<PieceVertex> vertices;
+    /// Counter-clockwise seen from outside: (b − a) × (c − a) points where the corners' world
+    /// normals point (tops, walls, ledges and floor alike).
     std::vector<std::array<std::uint32_t, 3>> triangles;
     /// The top edge of every crack wall (a crack lip), as vertex pairs: baking draws them as
     /// lines so that closed cracks (split elements that have not opened) still show.

@@ -7,6 +7,7 @@
 #include <doctest/doctest.h>
 
 #include <map>
+#include <tuple>
 
 using namespace crackle;
 
@@ -27,6 +28,58 @@ fracture::CrackPattern make_cracked(double thickness) {
 const fracture::CrackPattern& cracked() {
     static const fracture::CrackPattern pattern = make_cracked(0.01);
     return pattern;
+}
+
+/// Triangles whose corners wind clockwise seen from where their world normals point (of those
+/// with an area: a wall of an unopened crack on a flat lip may have none).
+std::size_t wound_inwards(const post::PieceMesh& pieces) {
+    std::size_t wrong = 0;
+    for (const auto& tri : pieces.triangles) {
+        const post::PieceVertex &a = pieces.vertices[tri[0]], &b = pieces.vertices[tri[1]],
+                                &c = pieces.vertices[tri[2]];
+        const Vec3 face = (b.position - a.position).cross(c.position - a.position);
+        if (face.norm() < 1e-14) continue;
+        wrong += face.dot(a.world_normal + b.world_normal + c.world_normal) < 0;
+    }
+    return wrong;
+}
+
+/// Crack walls whose normal (their corners' winding and their stored normal alike) points into
+/// their own piece: towards the third corner of the top triangle on the wall's lip.
+std::size_t walls_facing_in(const post::PieceMesh& pieces) {
+    // The top triangles by their edges' end points (vertex ids are per piece and offset).
+    std::map<std::pair<std::uint32_t, std::uint32_t>, std::uint32_t> third;
+    for (std::size_t t = 0; t < pieces.top_triangles; ++t)
+        for (std::size_t k = 0; k < 3; ++k)
+            third[{pieces.triangles[t][k], pieces.triangles[t][(k + 1) % 3]}] = pieces.triangles[t][(k + 2) % 3];
+    // A wall's top corners are copies of the top's vertices: find them by texture position and
+    // piece (on the cylinder a vertex and its copy one period over share a world position).
+    std::map<std::tuple<double, double, int>, std::uint32_t> top_vertex;
+    for (std::size_t t = 0; t < pieces.top_triangles; ++t)
+        for (std::uint32_t v : pieces.triangles[t])
+            top_vertex[{pieces.vertices[v].uv.x(), pieces.vertices[v].uv.y(), pieces.vertices[v].fragment}] = v;
+    auto top_of = [&](std::uint32_t v) {
+        return top_vertex.at({pieces.vertices[v].uv.x(), pieces.vertices[v].uv.y(), pieces.vertices[v].fragment});
+    };
+    std::size_t wrong = 0, checked = 0;
+    for (const auto& lip : pieces.lips) {
+        const std::uint32_t base = lip[0];
+        const std::uint32_t a = top_of(base), b = top_of(base + 1);
+        const auto it = third.find({a, b});
+        REQUIRE(it != third.end());
+        const Vec3 mid = 0.5 * (pieces.vertices[a].position + pieces.vertices[b].position);
+        const Vec3 inward = pieces.vertices[it->second].position - mid;
+        for (const auto& tri : pieces.triangles) {
+            if (tri[0] != base || tri[1] < base || tri[1] > base + 3 || tri[2] < base || tri[2] > base + 3) continue;
+            const Vec3 face = (pieces.vertices[tri[1]].position - pieces.vertices[tri[0]].position)
+                                  .cross(pieces.vertices[tri[2]].position - pieces.vertices[tri[0]].position);
+            if (face.norm() < 1e-14) continue;
+            ++checked;
+            wrong += face.dot(inward) > 0 || pieces.vertices[base].world_normal.dot(inward) > 0;
+        }
+    }
+    CHECK(checked > pieces.lips.size()); // most walls have an area
+    return wrong;
 }
 
 } // namespace
@@ -51,6 +104,32 @@ TEST_SUITE("post") {
                 REQUIRE(i < pieces.vertices.size());
     }
 
+    TEST_CASE("pieces: every triangle winds counter-clockwise seen from outside, every wall faces out of its piece "
+              "(plane, cylinder, sphere, glued and curled)") {
+        for (const mesh::SurfaceKind kind :
+             {mesh::SurfaceKind::Plane, mesh::SurfaceKind::Cylinder, mesh::SurfaceKind::Sphere}) {
+            const std::string surface = mesh::to_string(kind);
+            CAPTURE(surface);
+            test::LayerSpec spec;
+            spec.kind = kind;
+            spec.size = kind == mesh::SurfaceKind::Sphere ? Vec2(0.08, 0.08) : Vec2(0.3, 0.2);
+            spec.elements = 700;
+            spec.shrinkage = {3e-4, 3e-4};
+            test::Layer layer(spec);
+            Rng rng(5, RngStream::Fracture);
+            const fracture::CrackPattern p = fracture::run_fem_remove(*layer.model, fracture::FractureOptions{}, rng);
+            REQUIRE(p.cracks.size() > 20);
+            for (const double curl : {0.0, 1.5}) {
+                CAPTURE(curl);
+                post::PostOptions o;
+                o.curl = curl;
+                const post::PieceMesh pieces = post::build_pieces(p, o);
+                CHECK(wound_inwards(pieces) == 0);
+                CHECK(walls_facing_in(pieces) == 0);
+            }
+        }
+    }
+
     TEST_CASE("pieces: a crack that stops inside the layer has walls down to its depth and a floor there (§4.3)") {
         test::SpringSpec s;
         s.layer.size = Vec2(0.2, 0.2);
@@ -69,6 +148,7 @@ TEST_SUITE("post") {
             shallow += c.depth < 0.02 - 1e-9 && c.opening > 0;
         REQUIRE(shallow > 5);
         const post::PieceMesh pieces = post::build_pieces(r.pattern, post::PostOptions{});
+        CHECK(wound_inwards(pieces) == 0); // the ledges too
         // Heights of crack geometry are whole numbers of layers below the top (0.02 m): the
         // background (0), or the floor of a one- or two-layer crack (1/3 or 2/3 of the way up).
         std::size_t floors = 0;
@@ -98,8 +178,8 @@ TEST_SUITE("post") {
             const auto& tw = wet.triangles[first_wall_wet + t];
             const post::PieceVertex& top_a = dry.vertices[td[0]];
             const post::PieceVertex& bottom_a = dry.vertices[td[0] + 3];
-            const post::PieceVertex& bottom_b = dry.vertices[td[2]];
-            const post::PieceVertex& bottom_b_wet = wet.vertices[tw[2]];
+            const post::PieceVertex& bottom_b = dry.vertices[td[0] + 2];
+            const post::PieceVertex& bottom_b_wet = wet.vertices[tw[0] + 2];
             REQUIRE((bottom_b.uv - bottom_b_wet.uv).norm() < 1e-12);
             bottom_moved = std::max(bottom_moved, (bottom_b.uv - bottom_b_wet.uv).norm());
             REQUIRE(bottom_b.height == 0.0);
