@@ -146,9 +146,10 @@ io::PresetRequest with_bake_overrides(io::PresetRequest request, const std::stri
 }
 
 io::Preset preview_preset(const io::Preset& full) {
-    const io::ElementCount reduced = make_run_plan(full, true).elements;
+    const RunPlan quick = make_run_plan(full, true);
+    const io::ElementCount& reduced = quick.elements;
     std::vector<std::string> overrides = {"simulation.elements=" + std::to_string(reduced.elements)};
-    for (const std::string& o : fracture::find_method(full.text("simulation.method"))->preview_overrides)
+    for (const std::string& o : quick.method->preview_overrides)
         overrides.push_back(o);
     if (reduced.automatic) log::info(reduced.reason);
     return io::with_overrides(full, overrides);

@@ -25,7 +25,7 @@ SimulationResult run_simulation(const io::Preset& preset, const RunPlan& plan, S
                               scene.seed,
                               fracture_options(preset),
                               fem_options(preset)};
-    fracture::MethodResult m = fracture::make_method(preset)->run(in, times);
+    fracture::MethodResult m = plan.method->make(preset)->run(in, times);
     r.pattern = std::move(m.pattern);
     r.run = m.run;
     r.elements_initial = m.elements_initial;

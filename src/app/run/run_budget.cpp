@@ -16,8 +16,8 @@ namespace {
 constexpr double kMiB = 1024.0 * 1024.0;
 
 /// Peak bytes per initial element: the method's own figure (its method.cpp says how it was measured).
-double bytes_per_element(const io::Preset& preset) {
-    const fracture::MethodInfo& method = *fracture::find_method(preset.text("simulation.method"));
+double bytes_per_element(const io::Preset& preset, const RunPlan& plan) {
+    const fracture::MethodInfo& method = *plan.method;
     if (!method.bytes_per_element)
         throw std::logic_error("method " + method.name + " gives no memory figure (MethodInfo::bytes_per_element)");
     return method.bytes_per_element(preset);
@@ -30,7 +30,7 @@ RunEstimate estimate_run(const io::Preset& preset, const RunPlan& plan, bool bak
     for (const ProgressStage& stage : progress_stages(plan, bake))
         e.seconds += stage.weight;
     const double elements = static_cast<double>(plan.elements.elements);
-    const double simulation = elements * bytes_per_element(preset);
+    const double simulation = elements * bytes_per_element(preset, plan);
     double maps = 0;
     if (bake) {
         // 2235 MB for a 4096² mud bake and 309 MB at 1024² (`/usr/bin/time -f %M crackle -q bake

@@ -4,6 +4,7 @@
 /// the progress plan, the budget and the report take it instead of working the numbers out again
 /// from the preset's text.
 
+#include "fracture/method.hpp"
 #include "io/preset.hpp"
 #include "io/resolution.hpp"
 
@@ -15,6 +16,8 @@ struct RunPlan {
     io::ElementCount elements;
     /// The baked maps' width × height (io::map_size: bake.size, bake.size_v and the surface).
     io::MapSize map;
+    /// simulation.method's registry entry: its factory, memory figure, preview reduction.
+    const fracture::MethodInfo* method = nullptr;
 };
 
 /// The plan of a run of this preset; `preview` = the quick look's reduced model (io::element_count's
