@@ -30,7 +30,14 @@ MapSize map_size(const Settings& s) {
 }
 
 MapSize map_size(const Settings& s, const Vec2& tile) {
-    const int size = static_cast<int>(s.integer("bake.size")), rows = static_cast<int>(s.integer("bake.size_v"));
+    return map_request(s).on(tile);
+}
+
+MapSizeRequest map_request(const Settings& s) {
+    return {static_cast<int>(s.integer("bake.size")), static_cast<int>(s.integer("bake.size_v"))};
+}
+
+MapSize MapSizeRequest::on(const Vec2& tile) const {
     if (rows > 0) return {size, rows};
     const double aspect = tile.y() / std::max(tile.x(), 1e-300); // v over u
     if (aspect <= 1.0) return {size, std::max(1, static_cast<int>(std::lround(size * aspect)))};

@@ -59,6 +59,15 @@ Vec2 texture_tile(const Settings& s);
 MapSize map_size(const Settings& s, const Vec2& tile);
 MapSize map_size(const Settings& s);
 
+/// What bake.size and bake.size_v ask for, to be resolved against a tile later (MapSizeRequest::on).
+struct MapSizeRequest {
+    int size = 0; ///< bake.size: the longer side
+    int rows = 0; ///< bake.size_v: the rows, 0 = follow the tile
+    /// The maps' pixels on this tile (the rule of map_size).
+    MapSize on(const Vec2& tile) const;
+};
+MapSizeRequest map_request(const Settings& s);
+
 /// simulation.elements resolved: the number itself, or the auto rule for the map's pixels
 /// (map_size). `preview` = the preview's coarser rule (applied to explicit counts too: min).
 ElementCount element_count(const Settings& s, bool preview = false);

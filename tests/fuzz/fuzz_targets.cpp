@@ -62,7 +62,7 @@ int preset(const std::uint8_t* data, std::size_t size) {
     try {
         const io::Preset p = io::load_preset(request);
         // A preset that loads must also make its scene (surface, fields) without failing.
-        (void)app::make_scene(p, app::make_run_plan(p));
+        (void)app::make_scene(app::make_run_plan(p));
     } catch (const InputError&) {
         // The expected refusal of bad input.
     }

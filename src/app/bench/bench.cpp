@@ -53,7 +53,7 @@ Json bench_solve(const std::vector<std::size_t>& sizes, std::ostream& out) {
     Json rows = Json::array();
     for (std::size_t n : sizes) {
         const io::Preset preset = mud_preset(n);
-        const auto scene = make_scene(preset, make_run_plan(preset));
+        const auto scene = make_scene(make_run_plan(preset));
         const mesh::SurfaceMesh surface_mesh = discretize_scene(*scene, nullptr);
         Json row = Json::object();
         row["elements"] = surface_mesh.num_faces();

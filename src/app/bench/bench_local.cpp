@@ -45,7 +45,7 @@ Json bench_local(const std::vector<std::size_t>& sizes, int events, std::ostream
         request.overrides = {"simulation.elements=" + std::to_string(n),
                              "surface.size=[" + f("%.6g", side) + ", " + f("%.6g", side) + "]"};
         const io::Preset preset = io::load_preset(request);
-        const auto scene = make_scene(preset, make_run_plan(preset));
+        const auto scene = make_scene(make_run_plan(preset));
         sim::FemModel model(discretize_scene(*scene, nullptr), scene->surface, scene->growth, scene->shrinkage,
                             layer_fields(*scene), fem_options(preset));
         model.set_time(1.0);

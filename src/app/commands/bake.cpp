@@ -87,7 +87,7 @@ int bake_command(const BakeArgs& args, const GlobalOptions& global, std::ostream
         out << "crackle bake: " << preset.name << " (" << mesh::to_string(b.sim.scene->surface.kind()) << ", "
             << b.sim.pattern.method << "), seed " << b.sim.scene->seed << ", " << b.maps.width << "×"
             << b.maps.height_px << " px\n";
-        print_simulation(out, preset, b.sim);
+        print_simulation(out, b.sim);
         out << "  maps         " << report.find("files")->elements().size() << " files in " << outputs.dir.string()
             << "/ (" << names.base() << " ...); displacement 1.0 = " << fmt("%.4g", b.maps.height_scale * 1000)
             << " mm\n";

@@ -33,7 +33,7 @@ int mesh_command(const MeshArgs& args, const GlobalOptions& global, std::ostream
     Timer step;
     // Everything the preset says is checked here, before any work starts.
     const io::Preset preset = io::load_preset(args.preset);
-    const std::unique_ptr<Scene> scene = make_scene(preset, make_run_plan(preset));
+    const std::unique_ptr<Scene> scene = make_scene(make_run_plan(preset));
     times.emplace_back("preset", step.seconds());
 
     const mesh::SurfaceMesh surface_mesh = discretize_scene(*scene, &times);

@@ -78,7 +78,7 @@ int simulate_command(const SimulateArgs& args, const GlobalOptions& global, std:
     if (!global.quiet) {
         out << "crackle simulate: " << preset.name << " (" << mesh::to_string(r.scene->surface.kind()) << ", "
             << r.pattern.method << "), seed " << r.scene->seed << "\n";
-        print_simulation(out, preset, r);
+        print_simulation(out, r);
         print_times(out, times);
     }
     return 0;

@@ -28,14 +28,17 @@ Baked bake_pipeline(const io::Preset& preset, const RunPlan& plan, StepTimes& ti
     Baked b;
     b.sim = obtain_simulation(preset, plan, pattern, times);
     Timer step;
-    b.pieces = post::build_pieces(b.sim.pattern, post_options(preset));
+    b.pieces = post::build_pieces(b.sim.pattern, plan.post);
     times.emplace_back("post", step.seconds());
     progress_stage("bake");
     step.reset();
     render::GlContext context;
     times.emplace_back("gl_context", step.seconds());
     step.reset();
-    render::BakeOptions options = bake_options(preset, b.pieces);
+    render::BakeOptions options = plan.bake;
+    const io::MapSize map = plan.map_request.on(b.pieces.tile_size); // a loaded pattern's own tile
+    options.width = map.width;
+    options.height = map.height;
     options.shader_dir = shader_dir;
     b.maps = render::bake(b.pieces, options, context);
     times.emplace_back("bake", step.seconds());

@@ -99,9 +99,9 @@ Vec3 linear_from_srgb(const std::vector<double>& c) {
 }
 } // namespace
 
-render::BakeOptions bake_options(const io::Preset& preset, const post::PieceMesh& pieces) {
+render::BakeOptions bake_options(const io::Preset& preset) {
     render::BakeOptions o;
-    const io::MapSize map = io::map_size(preset, pieces.tile_size);
+    const io::MapSize map = io::map_size(preset);
     o.width = map.width;
     o.height = map.height;
     o.samples = static_cast<int>(preset.integer("bake.samples"));
@@ -133,6 +133,14 @@ render::BakeOptions bake_options(const io::Preset& preset, const post::PieceMesh
     o.ao_radius = preset.number("bake.ao_radius");
     o.ao_strength = preset.number("bake.ao_strength");
     o.seed = static_cast<std::uint32_t>(preset.integer("simulation.seed") & 0xffffffff);
+    return o;
+}
+
+render::BakeOptions bake_options(const io::Preset& preset, const post::PieceMesh& pieces) {
+    render::BakeOptions o = bake_options(preset);
+    const io::MapSize map = io::map_request(preset).on(pieces.tile_size);
+    o.width = map.width;
+    o.height = map.height;
     return o;
 }
 

@@ -27,7 +27,10 @@ sim::FemOptions fem_options(const io::Preset& preset);
 fracture::FractureOptions fracture_options(const io::Preset& preset);
 
 post::PostOptions post_options(const io::Preset& preset);
-/// The [bake] section; the map's pixels follow the pieces' surface (io::map_size).
+/// The [bake] section, the maps' pixels on the preset's own surface (io::map_size; a bake of
+/// pieces from another tile sizes them by io::MapSizeRequest::on).
+render::BakeOptions bake_options(const io::Preset& preset);
+/// The same, its maps' pixels on the pieces' tile (a pattern loaded from a file keeps its own).
 render::BakeOptions bake_options(const io::Preset& preset, const post::PieceMesh& pieces);
 
 } // namespace crackle::app

@@ -94,13 +94,12 @@ fracture::RunStats run_from_json(const Json& j) {
     return s;
 }
 
-/// A simulation result rebuilt from a pattern file: the scene from the preset (for the report's
+/// A simulation result rebuilt from a pattern file: the scene from the plan (for the report's
 /// surface and seed), the pattern and counters from the file, the statistics recomputed.
-SimulationResult result_from_file(const io::Preset& preset, const RunPlan& plan, fracture::PatternFile file,
-                                  std::string source) {
+SimulationResult result_from_file(const RunPlan& plan, fracture::PatternFile file, std::string source) {
     SimulationResult r;
     r.plan = plan;
-    r.scene = make_scene(preset, plan);
+    r.scene = make_scene(plan);
     r.pattern = std::move(file.pattern);
     const Json& h = file.header;
     r.elements_initial = count_of(h, "elements_initial");
@@ -180,7 +179,7 @@ std::vector<std::uint8_t> pattern_file_bytes(const io::Preset& preset, const Sim
     h["crackle_version"] = crackle_version();
     h["build"] = build_id();
     h["preset"] = preset.name;
-    h["seed"] = static_cast<long long>(preset.integer("simulation.seed"));
+    h["seed"] = static_cast<long long>(r.plan.seed);
     h["simulation_key"] = simulation_key(preset, r.plan);
     h["elements_initial"] = r.elements_initial;
     h["elements_final"] = r.elements_final;
@@ -220,7 +219,7 @@ SimulationResult obtain_simulation(const io::Preset& preset, const RunPlan& plan
                       preset.name, " (first difference: ", first_difference(mine, key->as_string()),
                       "); the pattern is used as it is");
         }
-        SimulationResult r = result_from_file(preset, plan, std::move(file), "file");
+        SimulationResult r = result_from_file(plan, std::move(file), "file");
         times.emplace_back("pattern_load", step.seconds());
         return r;
     }
@@ -233,7 +232,7 @@ SimulationResult obtain_simulation(const io::Preset& preset, const RunPlan& plan
             const Json* b = file.header.find("build");
             if (k && b && k->as_string() == key && b->as_string() == build_id()) {
                 log::info("reusing the cached pattern ", cached.string(), " (only post/bake keys differ)");
-                SimulationResult r = result_from_file(preset, plan, std::move(file), "cache");
+                SimulationResult r = result_from_file(plan, std::move(file), "cache");
                 times.emplace_back("pattern_load", step.seconds());
                 return r;
             }

@@ -12,7 +12,7 @@ SimulationResult run_simulation(const io::Preset& preset, const RunPlan& plan, S
     SimulationResult r;
     r.plan = plan;
     Timer step;
-    r.scene = make_scene(preset, plan);
+    r.scene = make_scene(plan);
     times.emplace_back("preset", step.seconds());
     const Scene& scene = *r.scene;
     fracture::MethodInputs in{scene.surface,
@@ -23,8 +23,8 @@ SimulationResult run_simulation(const io::Preset& preset, const RunPlan& plan, S
                               scene.discretize.elements,
                               scene.discretize.sampling,
                               scene.seed,
-                              fracture_options(preset),
-                              fem_options(preset)};
+                              plan.fracture,
+                              plan.fem};
     fracture::MethodResult m = plan.method->make(preset)->run(in, times);
     r.pattern = std::move(m.pattern);
     r.run = m.run;

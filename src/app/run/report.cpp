@@ -131,11 +131,10 @@ void print_times(std::ostream& out, const StepTimes& times) {
     out << "\n  peak memory  " << fmt("%.1f", peak_memory_mb()) << " MiB\n";
 }
 
-void print_simulation(std::ostream& out, const io::Preset& preset, const SimulationResult& r) {
+void print_simulation(std::ostream& out, const SimulationResult& r) {
     const auto& st = r.statistics;
     out << "  " << r.summary << "\n";
-    out << "  time         " << fmt("%.4g", r.pattern.final_time) << " of "
-        << fmt("%.4g", preset.number("simulation.duration"))
+    out << "  time         " << fmt("%.4g", r.pattern.final_time) << " of " << fmt("%.4g", r.plan.fracture.duration)
         << (r.pattern.events_capped ? " (stopped at simulation.max_events)" : "") << "; " << r.run.time_steps
         << " time steps, " << r.run.solves << " solves\n";
     out << "  fragments    " << st.fragments << ", mean area " << fmt("%.4g", st.mean_fragment_area * 1e4) << " cm2\n";

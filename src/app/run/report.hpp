@@ -27,6 +27,6 @@ Json simulation_report(const io::Preset& preset, const SimulationResult& r, cons
 Json resolved_settings(const io::Preset& preset, const RunPlan& plan);
 
 void print_times(std::ostream& out, const StepTimes& times);
-void print_simulation(std::ostream& out, const io::Preset& preset, const SimulationResult& r);
+void print_simulation(std::ostream& out, const SimulationResult& r);
 
 } // namespace crackle::app

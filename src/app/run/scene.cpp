@@ -6,31 +6,27 @@
 
 namespace crackle::app {
 
-std::unique_ptr<Scene> make_scene(const io::Preset& preset, const RunPlan& plan) {
-    const mesh::Surface surface(surface_options(preset));
-    const auto seed = static_cast<std::uint64_t>(preset.integer("simulation.seed"));
-    const auto& thickness = preset.numbers("material.thickness");
-    const auto& shrink = preset.numbers("material.shrinkage");
+std::unique_ptr<Scene> make_scene(const RunPlan& plan) {
+    const mesh::Surface surface(plan.surface);
+    const std::uint64_t seed = plan.seed;
+    const LayerPlan& l = plan.layer;
     // Each property's noise has its own stream, so editing one pattern leaves the others alone.
     auto scene = std::unique_ptr<Scene>(new Scene{
         surface,
-        sim::GrowthField(growth_options(preset), surface.kind()),
-        sim::ShrinkageOptions{shrink[0], shrink[1]},
-        sim::PropertyField(thickness[0], thickness[1], variation_options(preset, "thickness"), surface, seed, 1),
-        sim::PropertyField(preset.number("material.young_modulus"), variation_options(preset, "young_modulus"), surface,
-                           seed, 2),
-        sim::PropertyField(preset.number("material.threshold_stress"), variation_options(preset, "threshold_stress"),
-                           surface, seed, 3),
-        sim::PropertyField(preset.number("material.toughness"), variation_options(preset, "toughness"), surface, seed,
-                           4),
-        preset.number("material.poisson_ratio"),
+        sim::GrowthField(plan.growth, surface.kind()),
+        l.shrinkage,
+        sim::PropertyField(l.thickness_min, l.thickness_max, l.thickness, surface, seed, 1),
+        sim::PropertyField(l.young_modulus, l.young, surface, seed, 2),
+        sim::PropertyField(l.threshold_stress, l.threshold, surface, seed, 3),
+        sim::PropertyField(l.toughness, l.toughness_variation, surface, seed, 4),
+        l.poisson_ratio,
         mesh::DiscretizeOptions{},
-        preset.text("simulation.density") == "thickness",
+        l.density_follows_thickness,
         seed,
     });
     scene->discretize.elements = static_cast<std::size_t>(plan.elements.elements);
-    scene->discretize.sampling.jitter = preset.number("simulation.jitter");
-    scene->discretize.sampling.max_iterations = static_cast<int>(preset.integer("simulation.repulsion_iterations"));
+    scene->discretize.sampling.jitter = l.jitter;
+    scene->discretize.sampling.max_iterations = l.repulsion_iterations;
     return scene;
 }
 

@@ -1,5 +1,5 @@
 #pragma once
-/// @file A preset turned into the pipeline's typed inputs: the surface, its growth field,
+/// @file A run plan turned into the pipeline's typed inputs: the surface, its growth field,
 /// material shrinkage and property fields, and the discretization options.
 
 #include "app/run/options.hpp"
@@ -30,9 +30,8 @@ struct Scene {
     std::uint64_t seed = 1;
 };
 
-/// Builds every typed input, the element count from the plan; throws InputError (e.g. an
-/// unreadable image).
-std::unique_ptr<Scene> make_scene(const io::Preset& preset, const RunPlan& plan);
+/// Builds every typed input from the plan (the property fields from its layer, the element count).
+std::unique_ptr<Scene> make_scene(const RunPlan& plan);
 
 /// Discretizes the scene's surface (§5.2), density following thickness when asked.
 mesh::SurfaceMesh discretize_scene(const Scene& scene, StepTimes* times);

@@ -2,6 +2,7 @@
 // structs' own defaults, so code that builds an options struct by hand (tests, the bench) runs
 // what a preset would.
 #include "app/run/options.hpp"
+#include "app/run/run_plan.hpp"
 #include "fracture/fem_split/fem_split.hpp"
 #include "fracture/graph_fem/graph_fem.hpp"
 #include "fracture/mass_spring/mass_spring.hpp"
@@ -51,9 +52,6 @@ TEST_SUITE("app") {
         CHECK((bake.shading.crack_color - bake_default.shading.crack_color).norm() < 1e-6);
         bake.shading.color = bake_default.shading.color;
         bake.shading.crack_color = bake_default.shading.crack_color;
-        // Taken from the pieces, not from a key: the simulation's facet size.
-        CHECK(bake.relief.element_size == square.element_size);
-        bake.relief.element_size = bake_default.relief.element_size;
         CHECK(bake == bake_default);
 
         // The methods' own options (mapped in their folders).
@@ -66,6 +64,17 @@ TEST_SUITE("app") {
         CHECK(split == fracture::SplitOptions{});
         CHECK(fracture::mass_spring_options(p) == fracture::MassSpringOptions{});
         CHECK(fracture::graph_fem_options(p) == fracture::GraphFemOptions{});
+
+        // The run plan holds each stage's options as mapped here, once.
+        const app::RunPlan plan = app::make_run_plan(p);
+        CHECK(plan.surface == app::surface_options(p));
+        CHECK(plan.growth == app::growth_options(p));
+        CHECK(plan.fracture == app::fracture_options(p));
+        CHECK(plan.fem == app::fem_options(p));
+        CHECK(plan.post == app::post_options(p));
+        CHECK(plan.bake == app::bake_options(p));
+        CHECK(plan.map.width == plan.bake.width);
+        CHECK(plan.map.height == plan.bake.height);
     }
 
     TEST_CASE("options: every method's keys are in the schema, under the method, and every method can be made") {

@@ -88,7 +88,7 @@ double first_crack_with_refresh(const std::string& scene, const std::string& met
         request.overrides.push_back(o);
     request.overrides.push_back("simulation.elements=" + std::to_string(elements));
     const io::Preset preset = io::load_preset(request);
-    const std::unique_ptr<app::Scene> scene_ptr = app::make_scene(preset, app::make_run_plan(preset));
+    const std::unique_ptr<app::Scene> scene_ptr = app::make_scene(app::make_run_plan(preset));
     const app::Scene& sc = *scene_ptr;
     sim::FemOptions fem = app::fem_options(preset);
     fem.stiffness_refresh = refresh;
