@@ -50,6 +50,12 @@ void add_preset_options(CLI::App* cmd, io::PresetRequest& request) {
             "N"));
 }
 
+/// The PRESET a command runs (bark when none is given).
+void add_preset_name(CLI::App* cmd, io::PresetRequest& request) {
+    request.name_or_path = "bark";
+    cmd->add_option("PRESET", request.name_or_path, "Built-in preset name or .toml path")->capture_default_str();
+}
+
 void add_pattern_options(CLI::App* cmd, std::string& pattern_path, bool& no_cache) {
     cmd->add_option("--pattern", pattern_path,
                     "Use this crack pattern file (from simulate --save) instead of simulating")
@@ -153,21 +159,17 @@ void add_presets(CLI::App& app, Parsed& p) {
 }
 
 void add_mesh(CLI::App& app, Parsed& p) {
-    p.mesh_args.preset.name_or_path = "bark";
     CLI::App* mesh = p.mesh = app.add_subcommand("mesh", "Discretize a preset's surface and report mesh quality");
-    mesh->add_option("PRESET", p.mesh_args.preset.name_or_path, "Built-in preset name or .toml path")
-        ->capture_default_str();
+    add_preset_name(mesh, p.mesh_args.preset);
     mesh->add_option("--obj", p.mesh_args.obj_path, "Write the surface mesh as Wavefront OBJ");
     mesh->add_option("--json", p.mesh_args.json_path, "Write the report as JSON");
     add_preset_options(mesh, p.mesh_args.preset);
 }
 
 void add_simulate(CLI::App& app, Parsed& p) {
-    p.sim_args.preset.name_or_path = "bark";
     CLI::App* simulate = p.simulate =
         app.add_subcommand("simulate", "Grow and crack a preset's surface; report the crack pattern");
-    simulate->add_option("PRESET", p.sim_args.preset.name_or_path, "Built-in preset name or .toml path")
-        ->capture_default_str();
+    add_preset_name(simulate, p.sim_args.preset);
     simulate->add_option("--json", p.sim_args.json_path, "Write the report (pattern statistics, timings) as JSON");
     simulate->add_option("--events", p.sim_args.events_path, "Write the fracture events as CSV");
     simulate->add_option("--save", p.sim_args.save_path,
@@ -182,10 +184,8 @@ void add_simulate(CLI::App& app, Parsed& p) {
 }
 
 void add_bake(CLI::App& app, Parsed& p) {
-    p.bake_args.preset.name_or_path = "bark";
     CLI::App* bake = p.bake = app.add_subcommand("bake", "Run the whole pipeline and bake the texture set (PNG maps)");
-    bake->add_option("PRESET", p.bake_args.preset.name_or_path, "Built-in preset name or .toml path")
-        ->capture_default_str();
+    add_preset_name(bake, p.bake_args.preset);
     bake->add_option("--size", p.bake_args.size,
                      "Texture size in pixels: the longer side (2048), or width x height (2048x1024); overrides "
                      "bake.size")
@@ -213,10 +213,8 @@ void add_bake(CLI::App& app, Parsed& p) {
 }
 
 void add_export(CLI::App& app, Parsed& p) {
-    p.export_args.preset.name_or_path = "bark";
     CLI::App* exp = p.exp = app.add_subcommand("export", "Export the cracked pieces as a mesh with PBR maps");
-    exp->add_option("PRESET", p.export_args.preset.name_or_path, "Built-in preset name or .toml path")
-        ->capture_default_str();
+    add_preset_name(exp, p.export_args.preset);
     exp->add_option("--format", p.export_args.format, "obj, gltf or glb")
         ->check(CLI::IsMember({"obj", "gltf", "glb"}))
         ->capture_default_str();

@@ -1,15 +1,6 @@
 #include "app/commands/batch.hpp"
 
-#include "app/run/bake_run.hpp"
 #include "app/run/batch.hpp"
-#include "app/run/report.hpp"
-#include "app/run/run_budget.hpp"
-#include "core/atomic_file.hpp"
-#include "core/error.hpp"
-#include "core/log.hpp"
-#include "core/timer.hpp"
-#include "io/mesh_files.hpp"
-#include "io/resolution.hpp"
 
 namespace crackle::app {
 

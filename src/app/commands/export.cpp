@@ -3,12 +3,11 @@
 #include "app/run/bake_run.hpp"
 #include "app/run/report.hpp"
 #include "app/run/run_budget.hpp"
+#include "app/run/run_plan.hpp"
 #include "core/atomic_file.hpp"
-#include "core/error.hpp"
-#include "core/log.hpp"
+#include "core/progress.hpp"
 #include "core/timer.hpp"
 #include "io/mesh_files.hpp"
-#include "io/resolution.hpp"
 
 namespace crackle::app {
 

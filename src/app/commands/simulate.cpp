@@ -4,26 +4,15 @@
 #include "app/run/pipeline.hpp"
 #include "app/run/report.hpp"
 #include "app/run/run_budget.hpp"
-#include "app/run/scene.hpp"
+#include "app/run/run_plan.hpp"
 #include "core/atomic_file.hpp"
-#include "core/error.hpp"
 #include "core/json.hpp"
-#include "core/log.hpp"
+#include "core/progress.hpp"
 #include "core/timer.hpp"
 #include "fracture/preview.hpp"
-#include "fracture/statistics.hpp"
-#include "io/mesh_export.hpp"
-#include "io/obj.hpp"
 #include "io/png.hpp"
-#include "io/resolution.hpp"
-#include "io/texture_set.hpp"
-#include "mesh/surface_mesh.hpp"
-#include "render/gl_context.hpp"
-#include "sim/wedge_mesh.hpp"
 
 #include <cstdio>
-#include <iomanip>
-#include <map>
 
 namespace crackle::app {
 
