@@ -56,7 +56,7 @@ class Method {
 public:
     virtual ~Method() = default;
     /// Runs to `inputs.options.duration`; appends the wall times of its steps to `times`.
-    virtual MethodResult run(const MethodInputs& inputs, StepTimes& times) = 0;
+    virtual MethodResult run(const MethodInputs& inputs, StepTimes& times) const = 0;
 };
 
 /// One variant of a method that the speed-vs-accuracy study charts (`crackle bench study`).

@@ -373,6 +373,16 @@ void apply_override(const std::string& assignment, Values& values) {
     values[key] = std::move(from_cli);
 }
 
+void apply_flag(const FlagValue& flag, Values& values) {
+    const KeySpec* spec = find_key(flag.key);
+    if (!spec) throw std::logic_error("the flag " + flag.flag + " sets " + flag.key + ", which no preset has");
+    check(*spec, flag.value, flag.flag);
+    PresetValue from_cli;
+    from_cli.value = flag.value;
+    from_cli.source = SourceLocation{flag.flag, 0};
+    values[flag.key] = std::move(from_cli);
+}
+
 /// Checks that involve more than one key.
 void check_consistency(const Preset& p) {
     auto at = [&](const std::string& key) { return p.entry(key).source.text(); };
@@ -501,17 +511,12 @@ Preset load_preset(const PresetRequest& request) {
     Values values;
     std::vector<std::string> chain;
     load_recursive(request.name_or_path, {}, {}, chain, values);
-    for (const std::string& o : request.overrides)
-        apply_override(o, values);
-    if (request.seed >= 0) {
-        const KeySpec* spec = find_key("simulation.seed");
-        const Value seed = request.seed;
-        check(*spec, seed, "--seed");
-        PresetValue from_cli;
-        from_cli.value = seed;
-        from_cli.source = SourceLocation{"--seed", 0};
-        values["simulation.seed"] = from_cli;
+    for (std::size_t i = 0; i <= request.overrides.size(); ++i) {
+        for (const FlagValue& f : request.flags)
+            if (std::min(f.at, request.overrides.size()) == i) apply_flag(f, values);
+        if (i < request.overrides.size()) apply_override(request.overrides[i], values);
     }
+    if (request.seed >= 0) apply_flag({"simulation.seed", request.seed, "--seed"}, values);
 
     Preset preset;
     preset.name = request.name_or_path;

@@ -52,11 +52,22 @@ private:
     std::map<std::string, PresetValue> m_values;
 };
 
+/// A value one of the command line's own flags gives a key (`--size` gives bake.size and
+/// bake.size_v, `--maps` bake.maps): typed, checked as the preset's values are, its source the flag.
+struct FlagValue {
+    std::string key;  ///< "bake.size"
+    Value value;      ///< of the key's type
+    std::string flag; ///< "--size": where an error or the report's provenance says it came from
+    /// Applied just before overrides[at] (0: under every --set; the default: after them all).
+    std::size_t at = static_cast<std::size_t>(-1);
+};
+
 /// A request to load a preset.
 struct PresetRequest {
     std::string name_or_path;           ///< built-in name ("bark", "mud/thick") or a .toml path
     std::vector<std::string> overrides; ///< "section.key=value" (--set)
     std::int64_t seed = -1;             ///< --seed; < 0 keeps simulation.seed
+    std::vector<FlagValue> flags;       ///< --size, --maps, --bit-depth, --preview's map size
 };
 
 /// Loads, inherits, checks and completes a preset. Throws InputError with

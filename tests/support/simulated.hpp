@@ -25,7 +25,7 @@ inline Simulated simulate(const std::string& name, const std::vector<std::string
     request.overrides = overrides;
     Simulated s{io::load_preset(request), {}, {}};
     StepTimes times;
-    s.run = app::run_simulation(s.preset, app::make_run_plan(s.preset), times);
+    s.run = app::run_simulation(app::make_run_plan(s.preset), times);
     s.pieces = post::build_pieces(s.run.pattern, app::post_options(s.preset));
     return s;
 }

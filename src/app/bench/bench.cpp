@@ -115,7 +115,7 @@ Json bench_fem_remove(const std::vector<std::size_t>& sizes, std::ostream& out) 
         request.overrides = {"simulation.elements=" + std::to_string(n), "simulation.method=fem-remove"};
         StepTimes ignored;
         const io::Preset preset = io::load_preset(request);
-        const SimulationResult r = run_simulation(preset, make_run_plan(preset), ignored);
+        const SimulationResult r = run_simulation(make_run_plan(preset), ignored);
         const std::size_t elements = r.elements_initial;
         const fracture::RunStats& run = r.run;
         const fracture::CrackPattern& pattern = r.pattern;
@@ -160,7 +160,7 @@ Json bench_mass_spring(const std::vector<std::size_t>& masses, std::size_t max_b
                            "simulation.max_events=" + std::to_string(cap)};
             StepTimes ignored;
             const io::Preset preset = io::load_preset(r);
-            return run_simulation(preset, make_run_plan(preset), ignored);
+            return run_simulation(make_run_plan(preset), ignored);
         };
         const SimulationResult ms = run("mass-spring", n >= 64000 ? max_breaks : 100000000);
         const SimulationResult fr = run("fem-remove", 100000000);
@@ -201,7 +201,7 @@ SimulationResult simulate_with(const std::string& name, const std::vector<std::s
     r.overrides = overrides;
     StepTimes ignored;
     const io::Preset preset = io::load_preset(r);
-    return run_simulation(preset, make_run_plan(preset), ignored);
+    return run_simulation(make_run_plan(preset), ignored);
 }
 
 /// fem-split (§5.7-5.8): local vs global relaxation per event on the same capped run; the
@@ -325,7 +325,7 @@ Json bench_bake(const std::vector<int>& sizes, std::ostream& out) {
     r.name_or_path = "mud";
     const io::Preset preset = io::load_preset(r);
     StepTimes ignored;
-    const SimulationResult sim = run_simulation(preset, make_run_plan(preset), ignored);
+    const SimulationResult sim = run_simulation(make_run_plan(preset), ignored);
     const post::PieceMesh pieces = post::build_pieces(sim.pattern, post_options(preset));
     render::GlContext context;
     out << "\n### Bake: the mud preset's pieces, all maps (" << context.description() << ")\n\n"

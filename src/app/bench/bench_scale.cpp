@@ -2,6 +2,7 @@
 
 #include "app/bench/study_metrics.hpp"
 #include "app/bench/study_runner.hpp"
+#include "app/run/run_plan.hpp"
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
 #include "core/json.hpp"
@@ -91,9 +92,8 @@ std::vector<std::vector<Measured>> measure(const std::vector<std::pair<std::stri
 double mud_auto_side(long long elements) {
     io::PresetRequest request;
     request.name_or_path = "mud";
-    const io::Preset mud = io::load_preset(request);
-    const std::vector<double>& thickness = mud.numbers("material.thickness");
-    const double h = 0.5 * (thickness.front() + thickness.back());
+    const LayerPlan layer = make_run_plan(io::load_preset(request)).layer;
+    const double h = 0.5 * (layer.thickness_min + layer.thickness_max);
     return std::sqrt(static_cast<double>(elements) * h * h / 2.0);
 }
 
@@ -132,7 +132,7 @@ int scale_command(const ScaleArgs& args, std::ostream& out) {
 
     io::PresetRequest request;
     request.name_or_path = "mud";
-    const double tile = io::load_preset(request).numbers("surface.size").front();
+    const double tile = make_run_plan(io::load_preset(request)).surface.size.x();
     std::vector<Point> points;
     const std::vector<long long> scale_sizes =
         args.quick ? std::vector<long long>{300, 600} : std::vector<long long>{2500, 5000, 10000, 20000};

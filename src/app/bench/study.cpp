@@ -3,6 +3,7 @@
 #include "app/bench/study_metrics.hpp"
 #include "app/bench/study_plan.hpp"
 #include "app/bench/study_runner.hpp"
+#include "app/run/run_plan.hpp"
 #include "core/atomic_file.hpp"
 #include "core/embedded.hpp"
 #include "core/error.hpp"
@@ -61,16 +62,16 @@ double film_time(const std::string& scene) {
     io::PresetRequest r;
     r.name_or_path = scene_preset(scene);
     r.overrides = scene_overrides(scene);
-    const io::Preset p = io::load_preset(r);
-    const double nu = p.number("material.poisson_ratio");
+    const RunPlan plan = make_run_plan(io::load_preset(r));
+    const LayerPlan& layer = plan.layer;
+    const double nu = layer.poisson_ratio;
     const double flat =
-        film_first_crack_time(p.number("material.young_modulus"), nu, p.number("material.threshold_stress"),
-                              p.numbers("material.shrinkage").at(0));
+        film_first_crack_time(layer.young_modulus, nu, layer.threshold_stress, layer.shrinkage.top_rate);
     if (scene == "film") return flat;
     const bool sphere = scene == "film-sphere";
-    const double size = p.numbers("surface.size").at(0);
+    const double size = plan.surface.size.x();
     const double R = sphere ? size : size / (2 * PI);
-    return flat / curved_film_stress_factor(sphere, R, p.numbers("material.thickness").at(0), nu, R);
+    return flat / curved_film_stress_factor(sphere, R, layer.thickness_min, nu, R);
 }
 
 double stat(const StatMap& s, const char* key) {

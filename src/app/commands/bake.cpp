@@ -9,18 +9,10 @@ namespace crackle::app {
 
 namespace {
 
-/// --maps and --bit-depth are shorthands for the preset keys.
-io::PresetRequest bake_request(const BakeArgs& args) {
-    io::PresetRequest request = args.preset;
-    if (!args.maps.empty()) request.overrides.push_back("bake.maps=\"" + args.maps + "\"");
-    if (!args.bit_depth.empty()) request.overrides.push_back("bake.bit_depth=\"" + args.bit_depth + "\"");
-    return request;
-}
-
-/// The bake's preset; --preview swaps in the reduced model once the preset's own values are known.
-io::Preset load_bake_preset(const BakeArgs& args) {
-    const io::Preset full = io::load_preset(with_bake_overrides(bake_request(args), args.size, args.preview));
-    return args.preview ? preview_preset(full) : full;
+/// The preset request with the bake's flags (--size, --maps, --bit-depth, --preview) as the typed
+/// values of their keys.
+io::PresetRequest bake_request(const BakeArgs& args, bool with_size) {
+    return with_bake_flags(args.preset, {with_size ? args.size : "", args.maps, args.bit_depth, args.preview});
 }
 
 BakeOutputs bake_outputs(const BakeArgs& args) {
@@ -39,7 +31,7 @@ int bake_seeds(const BakeArgs& args, const GlobalOptions& global, std::ostream& 
         throw InputError("--seeds", "a seed list writes one report per seed beside its maps",
                          "leave out --preview, --watch and --json with --seeds");
     std::vector<Variant> variants;
-    const io::PresetRequest base = bake_request(args);
+    const io::PresetRequest base = bake_request(args, false); // the batch adds --size
     for (const std::uint64_t seed : parse_seed_list(args.seeds.empty() ? "" : args.seeds, "--seeds " + args.seeds)) {
         Variant v;
         v.index = variants.size();
@@ -70,15 +62,16 @@ int bake_command(const BakeArgs& args, const GlobalOptions& global, std::ostream
         return bake_seeds(args, global, out);
     }
     StepTimes times;
-    const io::Preset preset = load_bake_preset(args);
+    // --preview swaps in the reduced model once the preset's own values are known.
+    const RunPlan plan =
+        make_run_plan(io::load_preset(bake_request(args, true)), {.bake = true, .preview = args.preview});
     const BakeOutputs outputs = bake_outputs(args);
-    const OutputNames names = bake_names(preset, outputs, "", !args.name.empty());
+    const OutputNames names = bake_names(plan, outputs, "", !args.name.empty());
     Baked b;
-    const Json report =
-        bake_one(preset, outputs, names, args.shader_dir, {args.pattern_path, !args.no_cache}, times, &b);
+    const Json report = bake_one(plan, outputs, names, args.shader_dir, {args.pattern_path, !args.no_cache}, times, &b);
 
     if (!global.quiet) {
-        out << "crackle bake: " << preset.name << " (" << mesh::to_string(b.sim.scene->surface.kind()) << ", "
+        out << "crackle bake: " << plan.record.preset << " (" << mesh::to_string(b.sim.scene->surface.kind()) << ", "
             << b.sim.pattern.method << "), seed " << b.sim.scene->seed << ", " << b.maps.width << "×"
             << b.maps.height_px << " px\n";
         print_simulation(out, b.sim);

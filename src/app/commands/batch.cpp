@@ -9,8 +9,8 @@ int batch_command(const BatchArgs& args, const GlobalOptions& global, std::ostre
     BatchOptions options;
     options.out_dir = args.out_dir.empty() ? std::filesystem::path("out") : std::filesystem::path(args.out_dir);
     options.overrides = args.overrides;
-    if (!args.maps.empty()) options.overrides.push_back("bake.maps=\"" + args.maps + "\"");
-    if (!args.bit_depth.empty()) options.overrides.push_back("bake.bit_depth=\"" + args.bit_depth + "\"");
+    options.maps = args.maps;
+    options.bit_depth = args.bit_depth;
     options.size = args.size;
     options.outputs.meshes = args.meshes;
     options.outputs.split_pieces = args.split_pieces;

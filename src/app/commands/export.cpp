@@ -14,16 +14,16 @@ namespace crackle::app {
 int export_command(const ExportArgs& args, const GlobalOptions& global, std::ostream& out) {
     Timer total;
     StepTimes times;
-    const io::Preset preset = io::load_preset(with_bake_overrides(args.preset, args.size, false));
-    const std::string name = bake_names(preset, BakeOutputs{}).base();
+    const RunPlan plan =
+        make_run_plan(io::load_preset(with_bake_flags(args.preset, {.size = args.size})), {.bake = true});
+    const std::string name = bake_names(plan, BakeOutputs{}).base();
     const std::filesystem::path file = args.out_path.empty() ? std::filesystem::path("out") / (name + "." + args.format)
                                                              : std::filesystem::path(args.out_path);
     check_output_path(file, "--out");
     if (!args.json_path.empty()) check_output_path(args.json_path, "--json");
-    const RunPlan plan = make_run_plan(preset);
-    const RunBudget budget(preset, plan, true, "the export of " + preset.name);
-    const ProgressPlan progress(progress_stages(plan, true));
-    const Baked b = bake_pipeline(preset, plan, times, args.shader_dir, {args.pattern_path, !args.no_cache});
+    const RunBudget budget(plan, "the export of " + plan.record.preset);
+    const ProgressPlan progress(progress_stages(plan));
+    const Baked b = bake_pipeline(plan, times, args.shader_dir, {args.pattern_path, !args.no_cache});
 
     progress_stage("encode");
     Timer step;
@@ -38,7 +38,7 @@ int export_command(const ExportArgs& args, const GlobalOptions& global, std::ost
         written.push_back(f.path.string());
     }
     times.emplace_back("total", total.seconds());
-    Json report = simulation_report(preset, b.sim, times);
+    Json report = simulation_report(b.sim, times);
     report["command"] = "export";
     report["format"] = args.format;
     report["split_pieces"] = args.split_pieces;
@@ -50,7 +50,7 @@ int export_command(const ExportArgs& args, const GlobalOptions& global, std::ost
     if (!args.json_path.empty()) output.write(args.json_path, report.dump());
     output.commit();
     if (!global.quiet) {
-        out << "crackle export: " << preset.name << " -> " << files.front().path.string() << " ("
+        out << "crackle export: " << plan.record.preset << " -> " << files.front().path.string() << " ("
             << b.pieces.triangles.size() << " triangles, " << b.pieces.fragments << " pieces"
             << (args.split_pieces ? " as separate nodes" : "") << ", " << b.maps.width << "×" << b.maps.height_px
             << " px maps, +Y up, metres)\n";

@@ -19,8 +19,8 @@ int mesh_command(const MeshArgs& args, const GlobalOptions& global, std::ostream
     StepTimes times;
     Timer step;
     // Everything the preset says is checked here, before any work starts.
-    const io::Preset preset = io::load_preset(args.preset);
-    const std::unique_ptr<Scene> scene = make_scene(make_run_plan(preset));
+    const RunPlan plan = make_run_plan(io::load_preset(args.preset));
+    const std::unique_ptr<Scene> scene = make_scene(plan);
     times.emplace_back("preset", step.seconds());
 
     const mesh::SurfaceMesh surface_mesh = discretize_scene(*scene, &times);
@@ -45,7 +45,7 @@ int mesh_command(const MeshArgs& args, const GlobalOptions& global, std::ostream
 
     Json report = Json::object();
     report["command"] = "mesh";
-    report["preset"] = preset.name;
+    report["preset"] = plan.record.preset;
     report["surface"] = mesh::to_string(scene->surface.kind());
     report["seed"] = static_cast<long long>(scene->seed);
     report["nodes"] = surface_mesh.num_vertices();
@@ -74,7 +74,7 @@ int mesh_command(const MeshArgs& args, const GlobalOptions& global, std::ostream
     output.commit();
 
     if (!global.quiet) {
-        out << "crackle mesh: " << preset.name << " (" << mesh::to_string(scene->surface.kind()) << "), seed "
+        out << "crackle mesh: " << plan.record.preset << " (" << mesh::to_string(scene->surface.kind()) << "), seed "
             << scene->seed << "\n";
         out << "  nodes        " << surface_mesh.num_vertices() << " surface vertices, " << wedges.nodes.size()
             << " wedge nodes\n";

@@ -38,34 +38,33 @@ std::string events_csv(const fracture::CrackPattern& p) {
 int simulate_command(const SimulateArgs& args, const GlobalOptions& global, std::ostream& out) {
     Timer total;
     StepTimes times;
-    const io::Preset preset = io::load_preset(args.preset);
+    const RunPlan plan = make_run_plan(io::load_preset(args.preset));
     for (const auto& [path, option] : {std::pair{args.save_path, "--save"},
                                        {args.events_path, "--events"},
                                        {args.png_path, "--png"},
                                        {args.json_path, "--json"}})
         if (!path.empty()) check_output_path(path, option);
-    const RunPlan plan = make_run_plan(preset);
-    const RunBudget budget(preset, plan, false, "the simulation of " + preset.name);
-    const ProgressPlan progress(progress_stages(plan, false));
-    const SimulationResult r = run_simulation(preset, plan, times);
-    if (!args.no_cache) cache_store(preset, r); // a bake of the same simulation keys reuses it
+    const RunBudget budget(plan, "the simulation of " + plan.record.preset);
+    const ProgressPlan progress(progress_stages(plan));
+    const SimulationResult r = run_simulation(plan, times);
+    if (!args.no_cache) cache_store(r); // a bake of the same simulation keys reuses it
 
     progress_stage("write");
     AtomicOutput output;
-    if (!args.save_path.empty()) output.write(args.save_path, pattern_file_bytes(preset, r));
+    if (!args.save_path.empty()) output.write(args.save_path, pattern_file_bytes(r));
     if (!args.events_path.empty()) output.write(args.events_path, events_csv(r.pattern));
     if (!args.png_path.empty()) {
         const fracture::RgbImage img = fracture::preview_image(r.pattern, args.png_size);
         output.write(args.png_path, io::encode_png_rgb8(img.width, img.height, 3, img.pixels));
     }
     times.emplace_back("total", total.seconds());
-    Json report = simulation_report(preset, r, times);
+    Json report = simulation_report(r, times);
     report["command"] = "simulate";
     if (!args.json_path.empty()) output.write(args.json_path, report.dump());
     output.commit();
 
     if (!global.quiet) {
-        out << "crackle simulate: " << preset.name << " (" << mesh::to_string(r.scene->surface.kind()) << ", "
+        out << "crackle simulate: " << plan.record.preset << " (" << mesh::to_string(r.scene->surface.kind()) << ", "
             << r.pattern.method << "), seed " << r.scene->seed << "\n";
         print_simulation(out, r);
         print_times(out, times);

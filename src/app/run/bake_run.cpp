@@ -1,24 +1,22 @@
 #include "app/run/bake_run.hpp"
 
-#include "app/run/options.hpp"
 #include "app/run/report.hpp"
 #include "app/run/run_budget.hpp"
 #include "app/run/run_plan.hpp"
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
-#include "core/log.hpp"
 #include "core/timer.hpp"
-#include "fracture/method.hpp"
 #include "io/mesh_files.hpp"
 #include "io/resolution.hpp"
 #include "render/bake.hpp"
 #include "render/gl_context.hpp"
 
+#include <cstdio>
 #include <set>
 
 namespace crackle::app {
 
-Baked bake_pipeline(const io::Preset& preset, const RunPlan& plan, StepTimes& times, const std::string& shader_dir,
+Baked bake_pipeline(const RunPlan& plan, StepTimes& times, const std::string& shader_dir,
                     const PatternOptions& pattern) {
     if (!shader_dir.empty())
         for (const char* name : {"common.glsl", "bake.vert", "bake.frag", "id.frag", "fullscreen.vert", "ao.frag"})
@@ -26,7 +24,7 @@ Baked bake_pipeline(const io::Preset& preset, const RunPlan& plan, StepTimes& ti
                 throw InputError("--shader-dir " + shader_dir, std::string("no ") + name + " there",
                                  "point it at a copy of the shaders/ folder");
     Baked b;
-    b.sim = obtain_simulation(preset, plan, pattern, times);
+    b.sim = obtain_simulation(plan, pattern, times);
     Timer step;
     b.pieces = post::build_pieces(b.sim.pattern, plan.post);
     times.emplace_back("post", step.seconds());
@@ -48,37 +46,28 @@ Baked bake_pipeline(const io::Preset& preset, const RunPlan& plan, StepTimes& ti
     return b;
 }
 
-OutputNames bake_names(const io::Preset& preset, const BakeOutputs& outputs, const std::string& variant,
-                       bool pattern_wins) {
-    const NameFields fields{preset_file_name(preset.name),
-                            static_cast<std::uint64_t>(preset.integer("simulation.seed")), variant};
-    if (!pattern_wins && !preset.text("bake.name").empty())
-        return OutputNames(preset.text("bake.name"), fields, preset.entry("bake.name").source.text());
+OutputNames bake_names(const RunPlan& plan, const BakeOutputs& outputs, const std::string& variant, bool pattern_wins) {
+    const NameFields fields{plan.output.preset_file, plan.seed, variant};
+    if (!pattern_wins && !plan.output.name.empty())
+        return OutputNames(plan.output.name, fields, plan.output.name_where);
     return OutputNames(outputs.name_pattern.empty() ? "{preset}" : outputs.name_pattern, fields, outputs.name_where);
 }
 
-std::vector<io::MapRequest> bake_maps(const io::Preset& preset) {
-    return io::parse_map_requests(preset.text("bake.maps"), preset.text("bake.bit_depth"),
-                                  preset.entry("bake.maps").source.text(),
-                                  preset.entry("bake.bit_depth").source.text());
-}
-
-Json bake_one(const io::Preset& preset, const BakeOutputs& outputs, const OutputNames& names,
-              const std::string& shader_dir, const PatternOptions& pattern, StepTimes& times, Baked* keep) {
+Json bake_one(const RunPlan& plan, const BakeOutputs& outputs, const OutputNames& names, const std::string& shader_dir,
+              const PatternOptions& pattern, StepTimes& times, Baked* keep) {
     Timer total, step;
-    const std::vector<io::MapRequest> requests = bake_maps(preset);
+    const std::vector<io::MapRequest>& requests = plan.output.maps;
     // Where the files go is checked before any work (issue 16: a bad --out was found only after
     // the whole simulation and bake).
     check_output_path(outputs.dir / (names.base() + ".png"), "--out");
     if (!outputs.json_path.empty()) check_output_path(outputs.json_path, "--json");
-    const RunPlan plan = make_run_plan(preset);
-    const RunBudget budget(preset, plan, true, "the bake of " + names.base());
-    const ProgressPlan progress(progress_stages(plan, true));
-    Baked b = bake_pipeline(preset, plan, times, shader_dir, pattern);
+    const RunBudget budget(plan, "the bake of " + names.base());
+    const ProgressPlan progress(progress_stages(plan));
+    Baked b = bake_pipeline(plan, times, shader_dir, pattern);
     progress_stage("encode");
 
     double encode = 0;
-    const std::vector<io::EncodedMap> maps = io::encode_maps(b.maps, requests, preset.flag("bake.exr"), &encode);
+    const std::vector<io::EncodedMap> maps = io::encode_maps(b.maps, requests, plan.output.exr, &encode);
     times.emplace_back("encode", encode);
     progress_stage("write");
     AtomicOutput output;
@@ -102,7 +91,7 @@ Json bake_one(const io::Preset& preset, const BakeOutputs& outputs, const Output
     }
     times.emplace_back("total", total.seconds());
 
-    Json report = simulation_report(preset, b.sim, times);
+    Json report = simulation_report(b.sim, times);
     report["command"] = "bake";
     report["size"] = std::max(b.maps.width, b.maps.height_px);
     report["width"] = b.maps.width;
@@ -132,30 +121,25 @@ std::optional<std::pair<int, int>> parse_map_size(const std::string& text) {
     return std::nullopt;
 }
 
-io::PresetRequest with_bake_overrides(io::PresetRequest request, const std::string& size, bool preview) {
-    if (preview) {
-        request.overrides.insert(request.overrides.begin(), "bake.size=512");
-        request.overrides.insert(request.overrides.begin(), "bake.samples=2");
+io::PresetRequest with_bake_flags(io::PresetRequest request, const BakeFlags& flags) {
+    auto flag = [&](const char* key, Value value, const char* name, std::size_t at) {
+        request.flags.push_back({key, std::move(value), name, at});
+    };
+    if (flags.preview) { // under every --set: a value the user sets wins over the quick look's
+        flag("bake.samples", std::int64_t{2}, "--preview", 0);
+        flag("bake.size", std::int64_t{512}, "--preview", 0);
     }
-    if (!size.empty()) {
-        const auto parsed = parse_map_size(size);
+    if (!flags.maps.empty()) flag("bake.maps", flags.maps, "--maps", flags.at);
+    if (!flags.bit_depth.empty()) flag("bake.bit_depth", flags.bit_depth, "--bit-depth", flags.at);
+    if (!flags.size.empty()) {
+        const auto parsed = parse_map_size(flags.size);
         if (!parsed)
-            throw InputError("--size " + size, "not a map size",
+            throw InputError("--size " + flags.size, "not a map size",
                              "give the longer side in pixels (2048) or width x height (2048x1024), 16 to 16384 each");
-        request.overrides.push_back("bake.size=" + std::to_string(parsed->first));
-        request.overrides.push_back("bake.size_v=" + std::to_string(parsed->second));
+        flag("bake.size", std::int64_t{parsed->first}, "--size", static_cast<std::size_t>(-1));
+        flag("bake.size_v", std::int64_t{parsed->second}, "--size", static_cast<std::size_t>(-1));
     }
     return request;
-}
-
-io::Preset preview_preset(const io::Preset& full) {
-    const RunPlan quick = make_run_plan(full, true);
-    const io::ElementCount& reduced = quick.elements;
-    std::vector<std::string> overrides = {"simulation.elements=" + std::to_string(reduced.elements)};
-    for (const std::string& o : quick.method->preview_overrides)
-        overrides.push_back(o);
-    if (reduced.automatic) log::info(reduced.reason);
-    return io::with_overrides(full, overrides);
 }
 
 } // namespace crackle::app

@@ -24,7 +24,7 @@ struct Baked {
     render::TextureSet maps;
 };
 
-Baked bake_pipeline(const io::Preset& preset, const RunPlan& plan, StepTimes& times, const std::string& shader_dir,
+Baked bake_pipeline(const RunPlan& plan, StepTimes& times, const std::string& shader_dir,
                     const PatternOptions& pattern);
 
 /// Where and what one bake writes.
@@ -42,25 +42,30 @@ struct BakeOutputs {
 /// The names the bake will use: outputs.name_pattern when `pattern_wins` (a manifest's name),
 /// else bake.name when set, else outputs.name_pattern, else "{preset}". Checked: throws
 /// InputError before any work.
-OutputNames bake_names(const io::Preset& preset, const BakeOutputs& outputs, const std::string& variant = "",
+OutputNames bake_names(const RunPlan& plan, const BakeOutputs& outputs, const std::string& variant = "",
                        bool pattern_wins = false);
 
-/// The maps bake.maps and bake.bit_depth ask for (checked: throws InputError naming the line).
-std::vector<io::MapRequest> bake_maps(const io::Preset& preset);
-
-/// Runs one bake and writes its files and report; returns the report.
-Json bake_one(const io::Preset& preset, const BakeOutputs& outputs, const OutputNames& names,
-              const std::string& shader_dir, const PatternOptions& pattern, StepTimes& times, Baked* keep = nullptr);
+/// Runs one bake of a plan made with PlanRequest::bake and writes its files and report; returns
+/// the report.
+Json bake_one(const RunPlan& plan, const BakeOutputs& outputs, const OutputNames& names, const std::string& shader_dir,
+              const PatternOptions& pattern, StepTimes& times, Baked* keep = nullptr);
 
 /// "2048" → (2048, 0): the longer side; "2048x1024" → (2048, 1024). Empty optional when the text
 /// is neither or a side is outside 16..16384 pixels.
 std::optional<std::pair<int, int>> parse_map_size(const std::string& text);
 
-/// Applies the bake command's shortcuts (--preview, --size WxH) to a preset request.
-io::PresetRequest with_bake_overrides(io::PresetRequest request, const std::string& size, bool preview);
+/// The bake's own flags, as the command line gave them.
+struct BakeFlags {
+    std::string size;      ///< --size: "2048" or "2048x1024" (bake.size, bake.size_v)
+    std::string maps;      ///< --maps (bake.maps)
+    std::string bit_depth; ///< --bit-depth (bake.bit_depth)
+    bool preview = false;  ///< --preview: 512 px and 2 samples unless --set or --size say otherwise
+    /// --maps and --bit-depth apply just before overrides[at] (batch: under each variant's own set).
+    std::size_t at = static_cast<std::size_t>(-1);
+};
 
-/// The quick look's reduced model of a loaded preset (`bake --preview`): io::element_count's
-/// preview count and what the method leaves out for a preview (MethodInfo::preview_overrides).
-io::Preset preview_preset(const io::Preset& full);
+/// The bake's flags as typed values of the keys they stand for (io::FlagValue), checked: --size
+/// that is not a map size throws InputError.
+io::PresetRequest with_bake_flags(io::PresetRequest request, const BakeFlags& flags);
 
 } // namespace crackle::app

@@ -39,10 +39,15 @@ std::optional<std::int64_t> env_number(const char* name) {
     return static_cast<std::int64_t>(*n);
 }
 
-/// A variant made ready: its preset resolved, its names checked, its key computed.
+/// A variant made ready: its preset resolved and planned, its names checked, its key computed.
+/// The plan itself is made again when the variant bakes (a plan holds its variation images:
+/// a thousand of them at once would not fit).
 struct Prepared {
     const Variant* variant;
     io::Preset preset;
+    std::string preset_name;
+    std::uint64_t seed = 0;
+    OutputPlan output; ///< the plan's names and maps
     OutputNames names;
     std::string key;
 };
@@ -54,24 +59,26 @@ std::vector<Prepared> prepare(const std::vector<Variant>& variants, const BatchO
     for (const Variant& v : variants) {
         io::PresetRequest request = v.preset;
         request.overrides.insert(request.overrides.begin(), options.overrides.begin(), options.overrides.end());
-        request = with_bake_overrides(request, options.size, false);
+        // The batch's --maps and --bit-depth sit under each variant's own set, --size over it.
+        request =
+            with_bake_flags(request, {options.size, options.maps, options.bit_depth, false, options.overrides.size()});
         try {
             io::Preset preset = io::load_preset(request);
-            bake_maps(preset);
+            RunPlan plan = make_run_plan(preset, {.bake = true});
             BakeOutputs named = options.outputs;
             named.name_pattern = v.name.empty() ? "{preset}_{seed}" : v.name;
             named.name_where = v.where;
-            OutputNames names = bake_names(preset, named, v.name, !v.name.empty());
+            OutputNames names = bake_names(plan, named, v.name, !v.name.empty());
             const std::string base = fs::path(names.base()).lexically_normal().string();
             if (const auto [at, fresh] = bases.emplace(base, &v); !fresh)
                 throw InputError(v.where, "writes the same files as " + at->second->where + " ('" + base + "')",
                                  "give each variant its own name, or put {seed} or {variant} in the name");
-            std::string fingerprint = std::string(crackle_version()) + "\n"
-                                      + resolved_settings(preset, make_run_plan(preset)).dump() + "\n" + base + "\n"
-                                      + std::to_string(options.outputs.split_pieces);
+            std::string fingerprint = std::string(crackle_version()) + "\n" + plan.record.settings.dump() + "\n" + base
+                                      + "\n" + std::to_string(options.outputs.split_pieces);
             for (const std::string& m : options.outputs.meshes)
                 fingerprint += "\nmesh " + m;
-            out.push_back({&v, std::move(preset), std::move(names), hex64(fracture::fnv1a64(fingerprint))});
+            out.push_back({&v, std::move(preset), plan.record.preset, plan.seed, std::move(plan.output),
+                           std::move(names), hex64(fracture::fnv1a64(fingerprint))});
         } catch (const InputError& e) {
             if (v.where.empty() || std::string(e.what()).rfind(v.where, 0) == 0) throw;
             throw InputError(v.where + ": " + e.what());
@@ -117,8 +124,8 @@ Json variant_entry(const Prepared& p, const std::string& status, const BatchOpti
     Json e = Json::object();
     e["index"] = p.variant->index;
     e["name"] = p.names.base();
-    e["preset"] = p.preset.name;
-    e["seed"] = static_cast<long long>(p.preset.integer("simulation.seed"));
+    e["preset"] = p.preset_name;
+    e["seed"] = static_cast<long long>(p.seed);
     e["status"] = status;
     e["report"] = report_path(options, p).string();
     return e;
@@ -127,9 +134,9 @@ Json variant_entry(const Prepared& p, const std::string& status, const BatchOpti
 /// Every file a variant writes (maps, meshes, its report).
 std::vector<fs::path> expected_files(const BatchOptions& options, const Prepared& p) {
     std::vector<fs::path> files;
-    for (const io::MapRequest& m : bake_maps(p.preset))
+    for (const io::MapRequest& m : p.output.maps)
         files.push_back(p.names.map_file(options.out_dir, {m.name, "png", {}}));
-    if (p.preset.flag("bake.exr")) files.push_back(p.names.map_file(options.out_dir, {"Displacement", "exr", {}}));
+    if (p.output.exr) files.push_back(p.names.map_file(options.out_dir, {"Displacement", "exr", {}}));
     for (const std::string& format : options.outputs.meshes)
         files.push_back(options.out_dir / (p.names.base() + "." + format));
     files.push_back(report_path(options, p));
@@ -299,7 +306,8 @@ int run_batch(const std::vector<Variant>& variants, const BatchOptions& options,
             outputs.report_beside = true;
             outputs.variant_key = p.key;
             StepTimes times;
-            const Json report = bake_one(p.preset, outputs, p.names, options.shader_dir, options.pattern, times);
+            const Json report = bake_one(make_run_plan(p.preset, {.bake = true}), outputs, p.names, options.shader_dir,
+                                         options.pattern, times);
             ++done;
             entry["pattern_source"] = *report.find("pattern_source");
             if (!global.quiet)
@@ -329,8 +337,7 @@ int run_batch(const std::vector<Variant>& variants, const BatchOptions& options,
 int list_batch(const std::vector<Variant>& variants, const BatchOptions& options, std::ostream& out) {
     for (const Prepared& p : prepare(variants, options))
         if (options.shard.contains(p.variant->index))
-            out << p.variant->index << "\t" << p.names.base() << "\t" << p.preset.name << "\t"
-                << p.preset.integer("simulation.seed") << "\n";
+            out << p.variant->index << "\t" << p.names.base() << "\t" << p.preset_name << "\t" << p.seed << "\n";
     return 0;
 }
 

@@ -54,7 +54,8 @@ std::vector<Variant> read_manifest(const std::filesystem::path& path);
 struct BatchOptions {
     std::filesystem::path out_dir = "out";
     std::vector<std::string> overrides; ///< applied before each variant's own "set"
-    std::string size;                   ///< --size, as in bake
+    std::string maps, bit_depth;        ///< --maps, --bit-depth: under each variant's own "set"
+    std::string size;                   ///< --size, as in bake (over each variant's own "set")
     BakeOutputs outputs;                ///< meshes, pieces (the names come per variant)
     std::string shader_dir;
     PatternOptions pattern;

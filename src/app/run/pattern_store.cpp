@@ -174,28 +174,28 @@ const std::string& build_id() {
     return id;
 }
 
-std::vector<std::uint8_t> pattern_file_bytes(const io::Preset& preset, const SimulationResult& r) {
+std::vector<std::uint8_t> pattern_file_bytes(const SimulationResult& r) {
     Json h = Json::object();
     h["crackle_version"] = crackle_version();
     h["build"] = build_id();
-    h["preset"] = preset.name;
+    h["preset"] = r.plan.record.preset;
     h["seed"] = static_cast<long long>(r.plan.seed);
-    h["simulation_key"] = simulation_key(preset, r.plan);
+    h["simulation_key"] = r.plan.simulation_key;
     h["elements_initial"] = r.elements_initial;
     h["elements_final"] = r.elements_final;
     h["nodes"] = r.nodes;
     h["summary"] = r.summary;
     h["details"] = r.details;
     h["run"] = run_json(r);
-    h["preset_toml"] = preset.to_toml();
+    h["preset_toml"] = r.plan.record.toml;
     return fracture::encode_pattern(r.pattern, h);
 }
 
-void cache_store(const io::Preset& preset, const SimulationResult& result) {
-    const fs::path file = cache_file(simulation_key(preset, result.plan));
+void cache_store(const SimulationResult& result) {
+    const fs::path file = cache_file(result.plan.simulation_key);
     if (file.empty()) return;
     try {
-        const std::vector<std::uint8_t> bytes = pattern_file_bytes(preset, result);
+        const std::vector<std::uint8_t> bytes = pattern_file_bytes(result);
         write_file_atomically(file, std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
         log::debug("pattern cached in ", file.string());
     } catch (const std::exception& e) {
@@ -204,26 +204,25 @@ void cache_store(const io::Preset& preset, const SimulationResult& result) {
     }
 }
 
-SimulationResult obtain_simulation(const io::Preset& preset, const RunPlan& plan, const PatternOptions& options,
-                                   StepTimes& times) {
+SimulationResult obtain_simulation(const RunPlan& plan, const PatternOptions& options, StepTimes& times) {
     Timer step;
     if (!options.load_path.empty()) {
         const std::string bytes = read_file(options.load_path, "pattern file");
         fracture::PatternFile file = fracture::decode_pattern(bytes, options.load_path);
         const Json* key = file.header.find("simulation_key");
-        const std::string mine = simulation_key(preset, plan);
+        const std::string& mine = plan.simulation_key;
         if (key && key->as_string() != mine) {
             const Json* made = file.header.find("preset");
             log::warn("--pattern ", options.load_path, " was simulated from ",
                       made ? made->as_string() : std::string("another preset"), " with other simulation settings than ",
-                      preset.name, " (first difference: ", first_difference(mine, key->as_string()),
+                      plan.record.preset, " (first difference: ", first_difference(mine, key->as_string()),
                       "); the pattern is used as it is");
         }
         SimulationResult r = result_from_file(plan, std::move(file), "file");
         times.emplace_back("pattern_load", step.seconds());
         return r;
     }
-    const std::string key = options.use_cache ? simulation_key(preset, plan) : std::string();
+    const std::string key = options.use_cache ? plan.simulation_key : std::string();
     const fs::path cached = options.use_cache ? cache_file(key) : fs::path();
     if (!cached.empty() && fs::is_regular_file(cached)) {
         try {
@@ -240,9 +239,9 @@ SimulationResult obtain_simulation(const io::Preset& preset, const RunPlan& plan
             log::debug("ignoring an unreadable cached pattern: ", e.what());
         }
     }
-    SimulationResult r = run_simulation(preset, plan, times);
+    SimulationResult r = run_simulation(plan, times);
     r.pattern_source = "simulated";
-    if (options.use_cache) cache_store(preset, r);
+    if (options.use_cache) cache_store(r);
     return r;
 }
 

@@ -27,7 +27,8 @@ struct PatternOptions {
 /// Empty when the cache is off (CRACKLE_CACHE=off or 0, or no home folder).
 std::filesystem::path cache_dir();
 
-/// The text the cache keys on (one "key = value" line per simulation-relevant value).
+/// The text the cache keys on (one "key = value" line per simulation-relevant value; `plan`'s
+/// element count for "auto"): make_run_plan stores it as RunPlan::simulation_key.
 std::string simulation_key(const io::Preset& preset, const RunPlan& plan);
 
 /// This build of crackle (a hash of the running executable): patterns from any other build are
@@ -36,16 +37,15 @@ const std::string& build_id();
 
 /// The pattern file of a finished simulation: the pattern, the preset and seed that made it,
 /// the simulation key and the run's counters.
-std::vector<std::uint8_t> pattern_file_bytes(const io::Preset& preset, const SimulationResult& result);
+std::vector<std::uint8_t> pattern_file_bytes(const SimulationResult& result);
 
 /// Stores a finished simulation in the cache (best effort: a cache that cannot be written is
 /// a warning, never a failed run).
-void cache_store(const io::Preset& preset, const SimulationResult& result);
+void cache_store(const SimulationResult& result);
 
 /// The simulation a bake or export works from: the pattern file when given, else the cache's
 /// pattern for this preset when there is one, else a fresh simulation (stored in the cache).
 /// result.pattern_source says which.
-SimulationResult obtain_simulation(const io::Preset& preset, const RunPlan& plan, const PatternOptions& options,
-                                   StepTimes& times);
+SimulationResult obtain_simulation(const RunPlan& plan, const PatternOptions& options, StepTimes& times);
 
 } // namespace crackle::app

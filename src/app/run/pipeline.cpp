@@ -8,7 +8,7 @@
 
 namespace crackle::app {
 
-SimulationResult run_simulation(const io::Preset& preset, const RunPlan& plan, StepTimes& times) {
+SimulationResult run_simulation(const RunPlan& plan, StepTimes& times) {
     SimulationResult r;
     r.plan = plan;
     Timer step;
@@ -25,7 +25,7 @@ SimulationResult run_simulation(const io::Preset& preset, const RunPlan& plan, S
                               scene.seed,
                               plan.fracture,
                               plan.fem};
-    fracture::MethodResult m = plan.method->make(preset)->run(in, times);
+    fracture::MethodResult m = plan.runner->run(in, times);
     r.pattern = std::move(m.pattern);
     r.run = m.run;
     r.elements_initial = m.elements_initial;
@@ -40,7 +40,7 @@ SimulationResult run_simulation(const io::Preset& preset, const RunPlan& plan, S
     return r;
 }
 
-std::vector<ProgressStage> progress_stages(const RunPlan& plan, bool bake) {
+std::vector<ProgressStage> progress_stages(const RunPlan& plan) {
     // Seconds on two cores, from `crackle bake` of bark, mud and fruit (2222, 5000 and 6980
     // elements, 2048 px): setup 0.6–0.8 s; fracture 1.8, 28 and 5.2 s (the cost per element
     // varies 8× between scenes, so this is the roughest); post 0.1–0.3 s; bake 1.6–2.2 µs and
@@ -48,7 +48,7 @@ std::vector<ProgressStage> progress_stages(const RunPlan& plan, bool bake) {
     const double n = static_cast<double>(plan.elements.elements);
     std::vector<ProgressStage> stages = {
         {"setup", 0.3 + 1e-4 * n}, {"fracture", 2e-5 * std::pow(n, 1.5)}, {"post", 0.05 + 3e-5 * n}};
-    if (bake) {
+    if (plan.bakes) {
         const double pixels = plan.map.pixels();
         stages.push_back({"bake", 2e-6 * pixels});
         stages.push_back({"encode", 0.7e-6 * pixels});

@@ -27,13 +27,13 @@ struct SimulationResult {
     std::string pattern_source = "simulated"; ///< "simulated", "cache" or "file" (app/pattern_store.hpp)
 };
 
-/// Builds the scene and runs the preset's fracture method (fracture::make_method); appends
-/// wall times ("preset", "sampling", "triangulation", "assembly", "fracture", ...) to `times`.
-SimulationResult run_simulation(const io::Preset& preset, const RunPlan& plan, StepTimes& times);
+/// Builds the scene and runs the plan's fracture method (RunPlan::runner); appends wall times
+/// ("preset", "sampling", "triangulation", "assembly", "fracture", ...) to `times`.
+SimulationResult run_simulation(const RunPlan& plan, StepTimes& times);
 
 /// The stages of a run for the progress report (ProgressPlan), weighted by rough wall times
-/// from the element count and the map size: setup, fracture, post, then with `bake` the maps
-/// (bake, encode), and write. Never changes a result.
-std::vector<ProgressStage> progress_stages(const RunPlan& plan, bool bake);
+/// from the element count and the map size: setup, fracture, post, then when the plan bakes the
+/// maps (bake, encode), and write. Never changes a result.
+std::vector<ProgressStage> progress_stages(const RunPlan& plan);
 
 } // namespace crackle::app

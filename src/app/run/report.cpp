@@ -28,19 +28,6 @@ Json tile_size_m(const mesh::Surface& surface) {
     return size;
 }
 
-Json value_json(const Value& value) {
-    if (const auto* d = std::get_if<double>(&value)) return *d;
-    if (const auto* i = std::get_if<std::int64_t>(&value)) return static_cast<long long>(*i);
-    if (const auto* b = std::get_if<bool>(&value)) return *b;
-    if (const auto* v = std::get_if<std::vector<double>>(&value)) {
-        Json a = Json::array();
-        for (double x : *v)
-            a.push_back(x);
-        return a;
-    }
-    return std::get<std::string>(value);
-}
-
 } // namespace
 
 const char* crackle_version() {
@@ -53,21 +40,12 @@ std::string fmt(const char* format, double v) {
     return buf;
 }
 
-Json resolved_settings(const io::Preset& preset, const RunPlan& plan) {
-    Json settings = Json::object();
-    for (const auto& [key, entry] : preset.values())
-        settings[key] = key == "simulation.elements" && preset.is_auto(key)
-                            ? Json(static_cast<long long>(plan.elements.elements))
-                            : value_json(entry.value);
-    return settings;
-}
-
 /// The report fields of design.md for a finished simulation, plus details.
-Json simulation_report(const io::Preset& preset, const SimulationResult& r, const StepTimes& times) {
+Json simulation_report(const SimulationResult& r, const StepTimes& times) {
     const auto& st = r.statistics;
     Json report = Json::object();
     report["crackle_version"] = crackle_version();
-    report["preset"] = preset.name;
+    report["preset"] = r.plan.record.preset;
     report["surface"] = mesh::to_string(r.scene->surface.kind());
     report["method"] = r.pattern.method;
     report["seed"] = static_cast<long long>(r.scene->seed);
@@ -119,8 +97,8 @@ Json simulation_report(const io::Preset& preset, const SimulationResult& r, cons
     double first = -1;
     for (const auto& e : r.pattern.events)
         if (first < 0 || e.time < first) first = e.time;
-    report["first_event_time"] = first; // −1 when nothing broke
-    report["settings"] = resolved_settings(preset, r.plan);
+    report["first_event_time"] = first;          // −1 when nothing broke
+    report["settings"] = r.plan.record.settings; // the plan: every key as the run resolved it
     return report;
 }
 

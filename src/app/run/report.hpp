@@ -18,13 +18,9 @@ const char* crackle_version();
 std::string fmt(const char* format, double v);
 
 /// The report fields of design.md for a finished simulation, plus details: the crackle
-/// version, the tile size in metres, every resolved preset value ("settings") and where the
-/// pattern came from.
-Json simulation_report(const io::Preset& preset, const SimulationResult& r, const StepTimes& times);
-
-/// The preset's resolved values as JSON, key → value (simulation.elements = "auto" as the
-/// plan's count).
-Json resolved_settings(const io::Preset& preset, const RunPlan& plan);
+/// version, the tile size in metres, every key as the run's plan resolved it ("settings") and
+/// where the pattern came from.
+Json simulation_report(const SimulationResult& r, const StepTimes& times);
 
 void print_times(std::ostream& out, const StepTimes& times);
 void print_simulation(std::ostream& out, const SimulationResult& r);

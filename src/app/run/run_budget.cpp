@@ -2,12 +2,10 @@
 
 #include "app/run/pipeline.hpp"
 #include "core/log.hpp"
-#include "fracture/method.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <stdexcept>
 
 namespace crackle::app {
 
@@ -15,24 +13,17 @@ namespace {
 
 constexpr double kMiB = 1024.0 * 1024.0;
 
-/// Peak bytes per initial element: the method's own figure (its method.cpp says how it was measured).
-double bytes_per_element(const io::Preset& preset, const RunPlan& plan) {
-    const fracture::MethodInfo& method = *plan.method;
-    if (!method.bytes_per_element)
-        throw std::logic_error("method " + method.name + " gives no memory figure (MethodInfo::bytes_per_element)");
-    return method.bytes_per_element(preset);
-}
-
 } // namespace
 
-RunEstimate estimate_run(const io::Preset& preset, const RunPlan& plan, bool bake) {
+RunEstimate estimate_run(const RunPlan& plan) {
     RunEstimate e;
-    for (const ProgressStage& stage : progress_stages(plan, bake))
+    for (const ProgressStage& stage : progress_stages(plan))
         e.seconds += stage.weight;
     const double elements = static_cast<double>(plan.elements.elements);
-    const double simulation = elements * bytes_per_element(preset, plan);
+    // Peak bytes per initial element: the method's own figure (its method.cpp says how it was measured).
+    const double simulation = elements * plan.bytes_per_element;
     double maps = 0;
-    if (bake) {
+    if (plan.bakes) {
         // 2235 MB for a 4096² mud bake and 309 MB at 1024² (`/usr/bin/time -f %M crackle -q bake
         // mud --size N`): about 123 bytes a pixel for the maps, their 16-bit copies, the GL targets
         // and the encoder.
@@ -41,19 +32,16 @@ RunEstimate estimate_run(const io::Preset& preset, const RunPlan& plan, bool bak
     // The process itself: 64 MiB (`crackle simulate` of 2000 elements peaks at 73 MiB), and 48 MiB
     // more for a bake's GL driver (a 64² bake of a few hundred elements peaks at 105–126 MiB;
     // scripts/soak over 500 random presets, docs/reliability.md).
-    e.bytes = (bake ? 112 : 64) * kMiB + simulation + maps;
+    e.bytes = (plan.bakes ? 112 : 64) * kMiB + simulation + maps;
     e.memory_key = maps > simulation ? "bake.size" : "simulation.elements";
     return e;
 }
 
-RunBudget::RunBudget(const io::Preset& preset, const RunPlan& plan, bool bake, const std::string& what)
-    : m_estimate(estimate_run(preset, plan, bake)) {
+RunBudget::RunBudget(const RunPlan& plan, const std::string& what) : m_estimate(plan.estimate) {
     const BudgetLimits& limits = budget_limits();
     const double budget = static_cast<double>(memory_budget_bytes());
     const std::string need = format_bytes(m_estimate.bytes);
-    const std::string where = preset.entry(m_estimate.memory_key).source.file.empty()
-                                  ? m_estimate.memory_key + " (" + preset.name + ")"
-                                  : preset.entry(m_estimate.memory_key).source.text() + ": " + m_estimate.memory_key;
+    const std::string where = plan.record.where(m_estimate.memory_key);
     if (m_estimate.bytes > budget) {
         const std::string of =
             limits.memory_source.empty() ? " (90 % of this machine's memory)" : ", set by " + limits.memory_source;

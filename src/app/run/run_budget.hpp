@@ -13,14 +13,9 @@
 
 namespace crackle::app {
 
-/// Rough cost of one run on two cores.
-struct RunEstimate {
-    double seconds = 0;     ///< the progress plan's stage weights, summed (within a few × of the truth)
-    double bytes = 0;       ///< peak resident memory (within about 1.5×; docs/reliability.md)
-    std::string memory_key; ///< the key that dominates the memory: "bake.size" or "simulation.elements"
-};
-
-RunEstimate estimate_run(const io::Preset& preset, const RunPlan& plan, bool bake);
+/// The plan's cost (make_run_plan stores it as RunPlan::estimate): the method's memory per
+/// element, the maps' pixels when the run bakes, and the progress plan's stage weights.
+RunEstimate estimate_run(const RunPlan& plan);
 
 /// Checks a run against the budget before any work and then watches it: refuses (InputError,
 /// exit 2) a run whose estimated memory passes the memory budget; warns when the estimate is
@@ -28,7 +23,7 @@ RunEstimate estimate_run(const io::Preset& preset, const RunPlan& plan, bool bak
 class RunBudget {
 public:
     /// @param what  for messages: "simulation of mud", "bake of mud (seed 3)"
-    RunBudget(const io::Preset& preset, const RunPlan& plan, bool bake, const std::string& what);
+    RunBudget(const RunPlan& plan, const std::string& what);
 
     const RunEstimate& estimate() const { return m_estimate; }
 

@@ -11,7 +11,7 @@ namespace {
 
 class FemRemove : public Method {
 public:
-    MethodResult run(const MethodInputs& in, StepTimes& times) override {
+    MethodResult run(const MethodInputs& in, StepTimes& times) const override {
         return run_on_wedge_layer(in, times, [&](sim::FemModel& model, Rng& rng, MethodResult& r) {
             // Element removal takes out whole elements: on elements much wider than the layer is
             // thick, most of the layer goes (thesis Fig. 5.11, failure mode F6).

@@ -32,7 +32,7 @@ class FemSplit : public Method {
 public:
     explicit FemSplit(SplitOptions options) : m_options(options) {}
 
-    MethodResult run(const MethodInputs& in, StepTimes& times) override {
+    MethodResult run(const MethodInputs& in, StepTimes& times) const override {
         return run_on_wedge_layer(in, times, [&](sim::FemModel& model, Rng& rng, MethodResult& r) {
             check_initiation_length(model);
             SplitStats c;

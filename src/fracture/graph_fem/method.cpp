@@ -24,7 +24,7 @@ class GraphFem : public Method {
 public:
     explicit GraphFem(GraphFemOptions options) : m_options(options) {}
 
-    MethodResult run(const MethodInputs& in, StepTimes& times) override {
+    MethodResult run(const MethodInputs& in, StepTimes& times) const override {
         return run_on_wedge_layer(in, times, [&](sim::FemModel& model, Rng& rng, MethodResult& r) {
             check_damage_radius(model);
             GraphFemStats g;

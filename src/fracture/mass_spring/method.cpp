@@ -26,7 +26,7 @@ class MassSpring : public Method {
 public:
     explicit MassSpring(MassSpringOptions options) : m_options(options) {}
 
-    MethodResult run(const MethodInputs& in, StepTimes& times) override {
+    MethodResult run(const MethodInputs& in, StepTimes& times) const override {
         MethodResult r;
         Timer step;
         // One mass per Voronoi cell; a cell covers two triangles of a mesh with `elements` of

@@ -159,7 +159,7 @@ TEST_SUITE("app") {
         // 16384² maps are about 35 GiB: refused against a 4 GiB budget, before the simulation.
         auto r = run_cli({"--max-memory", "4G", "bake", "mud", "--size", "16384", "--out", (dir / "out").string()});
         CHECK(r.code == 2);
-        CHECK_MESSAGE(contains(r.err, "bake.size: the bake of mud would need about"), r.err);
+        CHECK_MESSAGE(contains(r.err, "--size: bake.size: the bake of mud would need about"), r.err); // the flag named
         CHECK(contains(r.err, "more than its budget of 4.0 GiB, set by --max-memory"));
         CHECK(contains(r.err, "nothing was started"));
         CHECK(!fs::exists(dir / "out"));
@@ -171,9 +171,7 @@ TEST_SUITE("app") {
         CHECK(!fs::exists(dir / "r.json"));
         // The estimate grows with what costs memory: layers of a mass-spring lattice, pixels.
         io::PresetRequest req{"mud", {"simulation.method=\"mass-spring\"", "simulation.elements=32000"}};
-        auto estimate = [](const io::Preset& p, bool bake) {
-            return app::estimate_run(p, app::make_run_plan(p), bake);
-        };
+        auto estimate = [](const io::Preset& p, bool bake) { return app::make_run_plan(p, {.bake = bake}).estimate; };
         const double one = estimate(io::load_preset(req), false).bytes;
         req.overrides.push_back("simulation.layers=4");
         CHECK(estimate(io::load_preset(req), false).bytes > 5 * one);

@@ -30,7 +30,7 @@ constexpr double STILL_BYTES_PER_ELEMENT = 1.0e6;
 class Still : public fracture::Method {
 public:
     explicit Still(double knob) : m_knob(knob) {}
-    fracture::MethodResult run(const fracture::MethodInputs& in, StepTimes& times) override {
+    fracture::MethodResult run(const fracture::MethodInputs& in, StepTimes& times) const override {
         return fracture::run_on_wedge_layer(in, times, [&](sim::FemModel& model, Rng&, fracture::MethodResult& r) {
             r.pattern = fracture::pattern_from_model(model, "test-still", r.elements_initial);
             r.details["knob"] = m_knob;
@@ -82,7 +82,7 @@ TEST_CASE("registry: a method registered in one place reaches the schema, run, r
         const io::Preset preset = still_preset({"simulation.still_knob=3"});
         const app::RunPlan plan = app::make_run_plan(preset);
         StepTimes times;
-        const app::SimulationResult r = app::run_simulation(preset, plan, times);
+        const app::SimulationResult r = app::run_simulation(plan, times);
         CHECK(r.pattern.method == "test-still");
         CHECK(r.pattern.events.empty());
         CHECK(r.elements_initial >= 300);
@@ -93,15 +93,16 @@ TEST_CASE("registry: a method registered in one place reaches the schema, run, r
         CHECK(cli.code == 0);
 
         // The budget takes its memory figure, not another method's.
-        const app::RunEstimate e = app::estimate_run(preset, plan, false);
+        const app::RunEstimate& e = plan.estimate;
         const double elements = static_cast<double>(plan.elements.elements);
         CHECK(e.bytes == doctest::Approx(64.0 * 1024 * 1024 + elements * STILL_BYTES_PER_ELEMENT));
         CHECK(e.memory_key == "simulation.elements");
 
         // The preview applies its reduction (and the preview's element count).
-        const io::Preset preview = app::preview_preset(preset);
-        CHECK(preview.number("simulation.still_knob") == doctest::Approx(7.0));
-        CHECK(preview.integer("simulation.elements") <= preset.integer("simulation.elements"));
+        const app::RunPlan preview = app::make_run_plan(preset, {.preview = true});
+        CHECK(preview.record.settings.find("simulation.still_knob")->as_number() == doctest::Approx(7.0));
+        CHECK(preview.elements.elements <= plan.elements.elements);
+        CHECK(preview.elements.elements == preview.record.settings.find("simulation.elements")->as_number());
 
         // The study lists its variant, runs it with its overrides and stops at its largest count.
         const std::vector<std::string> names = app::study_methods();
