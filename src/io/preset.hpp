@@ -67,7 +67,7 @@ struct PresetRequest {
     std::string name_or_path;           ///< built-in name ("bark", "mud/thick") or a .toml path
     std::vector<std::string> overrides; ///< "section.key=value" (--set)
     std::int64_t seed = -1;             ///< --seed; < 0 keeps simulation.seed
-    std::vector<FlagValue> flags;       ///< --size, --maps, --bit-depth, --preview's map size
+    std::vector<FlagValue> flags = {};  ///< --size, --maps, --bit-depth, --preview's map size
 };
 
 /// Loads, inherits, checks and completes a preset. Throws InputError with

@@ -56,10 +56,10 @@ std::optional<std::pair<int, int>> parse_map_size(const std::string& text);
 
 /// The bake's own flags, as the command line gave them.
 struct BakeFlags {
-    std::string size;      ///< --size: "2048" or "2048x1024" (bake.size, bake.size_v)
-    std::string maps;      ///< --maps (bake.maps)
-    std::string bit_depth; ///< --bit-depth (bake.bit_depth)
-    bool preview = false;  ///< --preview: 512 px and 2 samples unless --set or --size say otherwise
+    std::string size = {};      ///< --size: "2048" or "2048x1024" (bake.size, bake.size_v)
+    std::string maps = {};      ///< --maps (bake.maps)
+    std::string bit_depth = {}; ///< --bit-depth (bake.bit_depth)
+    bool preview = false;       ///< --preview: 512 px and 2 samples unless --set or --size say otherwise
     /// --maps and --bit-depth apply just before overrides[at] (batch: under each variant's own set).
     std::size_t at = static_cast<std::size_t>(-1);
 };

@@ -245,7 +245,7 @@ std::vector<Variant> read_manifest(const fs::path& path) {
                 throw InputError(path.string(), "more than 100000 variants", "split the manifest");
             Variant v;
             v.index = variants.size();
-            v.preset = io::PresetRequest{e.preset, e.overrides, seed};
+            v.preset = io::PresetRequest{e.preset, e.overrides, seed, {}};
             v.name = e.name;
             v.where = e.where;
             variants.push_back(std::move(v));

@@ -134,7 +134,7 @@ RunPlan make_run_plan(const io::Preset& preset, const PlanRequest& request) {
     const io::ElementCount elements = io::element_count(preset, request.preview);
     if (!request.preview) return plan_of(preset, elements, request);
     // The reduced preset states its count: planned as an explicit one (no rule, no reason).
-    return plan_of(preview_preset(preset, elements), io::ElementCount{elements.elements}, request);
+    return plan_of(preview_preset(preset, elements), io::ElementCount{elements.elements, false, {}}, request);
 }
 
 } // namespace crackle::app
