@@ -8,6 +8,7 @@
 /// degenerate faces, edges shared by more than two faces.
 
 #include "core/math.hpp"
+#include "mesh/model_surface.hpp"
 
 #include <array>
 #include <filesystem>
@@ -45,14 +46,11 @@ struct ModelSummary {
     std::size_t collapsed_faces = 0;
 };
 
-struct ModelMesh {
-    /// Welded vertices (metres, node transforms applied) and the triangles over them, wound as in
-    /// the file (counter-clockwise seen from outside for the usual exporters).
-    std::vector<Vec3> positions;
-    std::vector<std::array<int, 3>> triangles;
-    /// Per triangle corner: the UV layout of options.uv_set (v up, as glTF's and OpenGL's
-    /// textures are read by the bake: assimp's convention); empty when the file has no UVs.
-    std::vector<std::array<Vec2, 3>> corner_uv;
+/// The model: welded vertices (metres, node transforms applied) and the triangles over them,
+/// wound as in the file (counter-clockwise seen from outside for the usual exporters), and per
+/// triangle corner the UV layout of options.uv_set (v up: assimp's convention, the one the bake's
+/// maps are read with); no UVs when the file has none.
+struct ModelMesh : mesh::TriangleModel {
     ModelSummary summary;
 };
 
