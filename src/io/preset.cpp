@@ -388,13 +388,24 @@ void check_consistency(const Preset& p) {
     auto at = [&](const std::string& key) { return p.entry(key).source.text(); };
     const std::string kind = p.text("surface.kind");
     const auto& size = p.numbers("surface.size");
+    // A model's own size and curvature are checked when it is read (io::read_model).
+    const bool model = kind == "mesh";
+    if (model && p.text("surface.file").empty())
+        throw InputError(at("surface.kind"), "a mesh surface needs its model",
+                         "set surface.file to a model file (glTF, OBJ, FBX, ...) relative to the preset");
+    if (model) {
+        std::error_code ec;
+        if (!fs::is_regular_file(p.path("surface.file"), ec))
+            throw InputError(at("surface.file"), "model file '" + p.path("surface.file").string() + "' not found",
+                             "paths are relative to the preset file that names them");
+    }
     if (kind == "sphere" && size.size() != 1)
         throw InputError(at("surface.size"), "a sphere's surface.size is [radius], got " + to_toml(size),
                          "write size = [0.05] for a 5 cm radius");
-    if (kind != "sphere" && size.size() != 2)
+    if (!model && kind != "sphere" && size.size() != 2)
         throw InputError(at("surface.size"), "a " + kind + "'s surface.size needs two values, got " + to_toml(size),
                          kind == "plane" ? "write size = [width, height]" : "write size = [circumference, height]");
-    if (kind != "sphere") {
+    if (!model && kind != "sphere") {
         const double aspect = std::max(size[0], size[1]) / std::min(size[0], size[1]);
         if (aspect > 1000)
             throw InputError(at("surface.size"),
@@ -405,7 +416,7 @@ void check_consistency(const Preset& p) {
     // A curved surface must be resolved: with fewer than about six triangles around, a triangle
     // spans more than 60° of arc and its wedge turns inside out (a stability sweep found a
     // 0.5 m × 50 m trunk failing at 5000 elements, about 4.7 around, and running at 10000).
-    if (kind != "plane" && !p.is_auto("simulation.elements")) {
+    if (!model && kind != "plane" && !p.is_auto("simulation.elements")) {
         const double around = kind == "sphere" ? 2 * PI * size[0] : size[0];
         const auto needed = minimum_elements(p);
         const auto elements = p.integer("simulation.elements");
@@ -420,7 +431,7 @@ void check_consistency(const Preset& p) {
 
     const std::string growth = p.text("growth.kind");
     const double angle = p.number("growth.angle_deg");
-    if (growth == "anisotropic" && kind != "plane") {
+    if (growth == "anisotropic" && kind != "plane" && !model) {
         const double a = std::fmod(std::abs(angle), 180.0);
         if (a != 0.0 && a != 90.0)
             throw InputError(at("growth.angle_deg"),

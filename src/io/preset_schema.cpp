@@ -26,8 +26,21 @@ const char* const VARYING[] = {"thickness", "young_modulus", "threshold_stress",
 std::vector<KeySpec> build_schema() {
     std::vector<KeySpec> s;
     // === [surface]
-    s.push_back(choice("surface", "kind", "cylinder", {"plane", "cylinder", "sphere"},
-                       "Shape of the background: a plane or a tree trunk (both tile seamlessly), or a closed sphere."));
+    s.push_back(choice("surface", "kind", "cylinder", {"plane", "cylinder", "sphere", "mesh"},
+                       "Shape of the background: a plane or a tree trunk (both tile seamlessly), a closed sphere, "
+                       "or your own model (surface.file; `crackle mesh` remeshes it, simulating and baking on a "
+                       "model are not in this version yet)."));
+    s.push_back(text("surface", "file", "",
+                     "kind = \"mesh\": the model, any format assimp reads (glTF/GLB, OBJ, FBX, COLLADA, PLY, 3DS, "
+                     "STL, ...), relative to the preset file."));
+    s.push_back(
+        text("surface", "node", "",
+             "kind = \"mesh\": the node whose meshes to take (with its children); empty = every mesh, merged."));
+    s.push_back(integer("surface", "uv_set", 0, "", 0.0, 7.0,
+                        "kind = \"mesh\": the texture-coordinate set that is the bake's UV layout."));
+    s.push_back(number("surface", "scale", 0.0, "m/unit", 0.0, 1e6,
+                       "kind = \"mesh\": metres per model unit; 0 = what the file says (FBX's unit, COLLADA's "
+                       "<unit>, glTF's metres), else 1."));
     s.push_back(array("surface", "size", {0.5, 0.5}, 1, 2, "m", 0.0, 1000.0,
                       "plane: [width, height]; cylinder: [circumference, height]; sphere: [radius]. "
                       "The texture covers this area, so cracks look finer on a larger surface.",

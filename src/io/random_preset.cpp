@@ -117,7 +117,10 @@ std::string random_preset(std::uint64_t seed, const RandomPresetOptions& o) {
             texts[name] = rng.uniform() < 0.5 ? "true" : "false";
             break;
         case ValueType::Enum: {
-            std::string choice = k.choices[rng.uniform_int(static_cast<std::uint32_t>(k.choices.size()))];
+            std::vector<std::string> choices = k.choices;
+            if (k.key == "kind" && k.section == "surface") // the soak has no model file
+                choices.erase(std::remove(choices.begin(), choices.end(), "mesh"), choices.end());
+            std::string choice = choices[rng.uniform_int(static_cast<std::uint32_t>(choices.size()))];
             if (k.key == "pattern" && choice == "image") choice = "noise"; // the soak has no image file
             texts[name] = "\"" + choice + "\"";
             break;

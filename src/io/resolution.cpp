@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <stdexcept>
 
 namespace crackle::io {
 
@@ -14,12 +15,15 @@ const ResolutionRule& resolution_rule() {
 }
 
 double surface_area(const Settings& s) {
+    if (s.text("surface.kind") == "mesh")
+        throw std::logic_error("surface_area: a model's area is its own (pass it to element_count)");
     const auto& size = s.numbers("surface.size");
     if (s.text("surface.kind") == "sphere") return 4 * PI * sqr(size[0]);
     return size[0] * (size.size() > 1 ? size[1] : size[0]);
 }
 
 Vec2 texture_tile(const Settings& s) {
+    if (s.text("surface.kind") == "mesh") return Vec2(1.0, 1.0); // the model's UV square
     const auto& size = s.numbers("surface.size");
     if (s.text("surface.kind") == "sphere") return Vec2(TWO_PI * size[0], PI * size[0]);
     return Vec2(size[0], size.size() > 1 ? size[1] : size[0]);
@@ -46,7 +50,7 @@ MapSize MapSizeRequest::on(const Vec2& tile) const {
 
 std::int64_t minimum_elements(const Settings& s) {
     const std::string& kind = s.text("surface.kind");
-    if (kind == "plane") return 0;
+    if (kind == "plane" || kind == "mesh") return 0; // a model's curvature: its remeshing keeps it
     // A triangle spanning more than a sixth of the way around turns its wedge inside out.
     const auto& size = s.numbers("surface.size");
     const double around = kind == "sphere" ? 2 * PI * size[0] : size[0];
@@ -71,9 +75,9 @@ double resolving_thickness(const Settings& s) {
 
 } // namespace
 
-ElementCount element_count(const Settings& s, bool preview) {
+ElementCount element_count(const Settings& s, bool preview, double model_area) {
     const ResolutionRule& rule = resolution_rule();
-    const double h = resolving_thickness(s), area = surface_area(s);
+    const double h = resolving_thickness(s), area = model_area > 0 ? model_area : surface_area(s);
     const double q = preview ? rule.preview_elements_per_thickness_squared : s.number("simulation.elements_per_h2");
     const MapSize map = map_size(s);
     const double cap = map.pixels() / rule.pixels_per_element;

@@ -35,7 +35,7 @@ struct ElementCount {
     std::string reason; ///< how an automatic count was reached (for the report and the log)
 };
 
-/// The surface's area (m²), from surface.kind and surface.size.
+/// The surface's area (m²), from surface.kind and surface.size (not for a model: its own).
 double surface_area(const Settings& s);
 
 /// The fewest elements a curved surface needs (about six triangles around); 0 on the plane.
@@ -70,6 +70,7 @@ MapSizeRequest map_request(const Settings& s);
 
 /// simulation.elements resolved: the number itself, or the auto rule for the map's pixels
 /// (map_size). `preview` = the preview's coarser rule (applied to explicit counts too: min).
-ElementCount element_count(const Settings& s, bool preview = false);
+/// `model_area`: a model's area (m²), which its settings do not know (surface.kind = "mesh").
+ElementCount element_count(const Settings& s, bool preview = false, double model_area = 0);
 
 } // namespace crackle::io

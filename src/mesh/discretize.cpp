@@ -1,5 +1,6 @@
 #include "mesh/discretize.hpp"
 
+#include "mesh/remesh_model.hpp"
 #include "mesh/triangulate.hpp"
 
 namespace crackle::mesh {
@@ -15,7 +16,13 @@ SurfaceMesh discretize(const Surface& surface, const DiscretizeOptions& options,
     sampling.count = points_for_elements(surface.kind(), options.elements);
     Timer timer;
     SurfaceMesh mesh;
-    if (surface.periodic()) {
+    if (surface.kind() == SurfaceKind::Mesh) {
+        // The artist's model: remeshed isotropically (the spacing field is not followed yet).
+        if (times) times->emplace_back("sampling", 0.0);
+        RemeshOptions remesh;
+        remesh.elements = options.elements;
+        mesh = remesh_model(*surface.model(), remesh, rng);
+    } else if (surface.periodic()) {
         SpacingField2 field;
         if (spacing) field = [&](const Vec2& d) { return spacing(surface.uv_of_domain(d)); };
         const std::vector<Vec2> pts = sample_periodic(surface.period(), sampling, field, rng);

@@ -24,8 +24,8 @@ using SpacingOverUv = std::function<double(const Vec2& uv)>;
 /// Number of points that gives `elements` triangles: F = 2V on a torus, F = 2V − 4 on a sphere.
 std::size_t points_for_elements(SurfaceKind kind, std::size_t elements);
 
-/// Samples and triangulates the surface. Appends "sampling" and "triangulation" wall
-/// times to `times` when given. Draws from `rng` (the Sampling stream).
+/// Samples and triangulates the surface (a model: remeshes it, mesh/remesh_model.hpp). Appends "sampling" and
+/// "triangulation" wall times to `times` when given. Draws from `rng` (the Sampling stream).
 SurfaceMesh discretize(const Surface& surface, const DiscretizeOptions& options, const SpacingOverUv& spacing, Rng& rng,
                        StepTimes* times = nullptr);
 

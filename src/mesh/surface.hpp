@@ -10,9 +10,15 @@
 
 #include "core/math.hpp"
 
+#include <memory>
+
 namespace crackle::mesh {
 
-enum class SurfaceKind { Plane, Cylinder, Sphere };
+class ModelSurface;
+
+/// The three analytic surfaces, and the artist's own model (issue 30: a closed or open triangle
+/// mesh with its own UV layout, mesh/model_surface.hpp).
+enum class SurfaceKind { Plane, Cylinder, Sphere, Mesh };
 
 const char* to_string(SurfaceKind kind);
 
@@ -21,6 +27,8 @@ struct SurfaceOptions {
     SurfaceKind kind = SurfaceKind::Cylinder;
     /// plane: [width, height] m; cylinder: [circumference, height] m; sphere: [radius, unused] m
     Vec2 size = Vec2(0.5, 0.5);
+    /// The model of SurfaceKind::Mesh (read by io::read_model); its size is the model's own.
+    std::shared_ptr<const ModelSurface> model;
     bool operator==(const SurfaceOptions&) const = default; ///< every field: the options test compares whole structs
 };
 
@@ -35,7 +43,9 @@ public:
     explicit Surface(const SurfaceOptions& options);
 
     SurfaceKind kind() const { return m_kind; }
-    bool periodic() const { return m_kind != SurfaceKind::Sphere; }
+    bool periodic() const { return m_kind == SurfaceKind::Plane || m_kind == SurfaceKind::Cylinder; }
+    /// The artist's model (SurfaceKind::Mesh), else nullptr.
+    const ModelSurface* model() const { return m_model.get(); }
 
     /// Domain size (Lx, Ly) of a periodic surface in metres.
     Vec2 period() const { return m_period; }
@@ -65,6 +75,7 @@ private:
     SurfaceKind m_kind;
     Vec2 m_period;
     double m_radius = 0.0;
+    std::shared_ptr<const ModelSurface> m_model;
 };
 
 } // namespace crackle::mesh

@@ -19,7 +19,7 @@ int mesh_command(const MeshArgs& args, const GlobalOptions& global, std::ostream
     StepTimes times;
     Timer step;
     // Everything the preset says is checked here, before any work starts.
-    const RunPlan plan = make_run_plan(io::load_preset(args.preset));
+    const RunPlan plan = make_run_plan(io::load_preset(args.preset), {.discretize_only = true});
     const std::unique_ptr<Scene> scene = make_scene(plan);
     times.emplace_back("preset", step.seconds());
 

@@ -1,6 +1,7 @@
 #include "app/run/options.hpp"
 
 #include "core/error.hpp"
+#include "io/model_file.hpp"
 #include "io/png.hpp"
 #include "io/resolution.hpp"
 
@@ -15,9 +16,18 @@ mesh::SurfaceOptions surface_options(const io::Preset& preset) {
     const std::string kind = preset.text("surface.kind");
     o.kind = kind == "plane"    ? mesh::SurfaceKind::Plane
              : kind == "sphere" ? mesh::SurfaceKind::Sphere
+             : kind == "mesh"   ? mesh::SurfaceKind::Mesh
                                 : mesh::SurfaceKind::Cylinder;
     const auto& size = preset.numbers("surface.size");
     o.size = Vec2(size[0], size.size() > 1 ? size[1] : size[0]);
+    if (o.kind == mesh::SurfaceKind::Mesh) {
+        io::ModelOptions m;
+        m.node = preset.text("surface.node");
+        m.uv_set = static_cast<int>(preset.integer("surface.uv_set"));
+        m.scale = preset.number("surface.scale");
+        m.where = preset.entry("surface.file").source.text() + ": surface.file";
+        o.model = std::make_shared<const mesh::ModelSurface>(io::read_model(preset.path("surface.file"), m));
+    }
     return o;
 }
 

@@ -6,6 +6,7 @@
 #include "app/run/run_budget.hpp"
 #include "core/error.hpp"
 #include "core/log.hpp"
+#include "mesh/model_surface.hpp"
 
 namespace crackle::app {
 
@@ -96,7 +97,8 @@ io::Preset preview_preset(const io::Preset& full, const io::ElementCount& reduce
     return io::with_overrides(full, overrides);
 }
 
-RunPlan plan_of(const io::Preset& preset, const io::ElementCount& elements, const PlanRequest& request) {
+RunPlan plan_of(const io::Preset& preset, const mesh::SurfaceOptions& surface, const io::ElementCount& elements,
+                const PlanRequest& request) {
     RunPlan plan;
     plan.method = &find_method(preset);
     plan.runner = plan.method->make(preset);
@@ -107,7 +109,7 @@ RunPlan plan_of(const io::Preset& preset, const io::ElementCount& elements, cons
     plan.elements = elements;
     plan.map = io::map_size(preset);
     plan.map_request = io::map_request(preset);
-    plan.surface = surface_options(preset);
+    plan.surface = surface;
     plan.growth = growth_options(preset);
     plan.fracture = fracture_options(preset);
     plan.fem = fem_options(preset);
@@ -131,10 +133,17 @@ std::string PlanRecord::where(const std::string& key) const {
 }
 
 RunPlan make_run_plan(const io::Preset& preset, const PlanRequest& request) {
-    const io::ElementCount elements = io::element_count(preset, request.preview);
-    if (!request.preview) return plan_of(preset, elements, request);
+    // The surface first: a model's area sets an "auto" element count (its settings do not know it).
+    const mesh::SurfaceOptions surface = surface_options(preset);
+    if (surface.model && !request.discretize_only)
+        throw InputError(preset.entry("surface.kind").source.text() + ": surface.kind",
+                         "crackle can remesh a model (`crackle mesh`) but cannot yet simulate, bake or export on one",
+                         "use surface.kind = \"plane\", \"cylinder\" or \"sphere\" for those");
+    const io::ElementCount elements =
+        io::element_count(preset, request.preview, surface.model ? surface.model->area() : 0.0);
+    if (!request.preview) return plan_of(preset, surface, elements, request);
     // The reduced preset states its count: planned as an explicit one (no rule, no reason).
-    return plan_of(preview_preset(preset, elements), io::ElementCount{elements.elements, false, {}}, request);
+    return plan_of(preview_preset(preset, elements), surface, io::ElementCount{elements.elements, false, {}}, request);
 }
 
 } // namespace crackle::app

@@ -102,7 +102,9 @@ struct RunPlan {
 
 /// How a command plans its run.
 struct PlanRequest {
-    bool bake = false;    ///< the run bakes maps (bake, export)
+    bool bake = false; ///< the run bakes maps (bake, export)
+    /// The run only meshes the surface (`crackle mesh`): the one use a model surface has so far.
+    bool discretize_only = false;
     bool preview = false; ///< the quick look's reduced model (`bake --preview`): io::element_count's
                           ///< preview count and the method's MethodInfo::preview_overrides
 };
