@@ -103,11 +103,12 @@ Soup collect(const aiScene& scene, const ModelOptions& options, const std::files
 std::pair<double, std::string> unit_scale(const aiScene& scene, const ModelOptions& options) {
     if (options.scale > 0) return {options.scale, "surface.scale"};
     if (scene.mMetaData) {
+        // FBX: centimetres per unit (assimp leaves the coordinates in the file's units), stored as
+        // a double or a float depending on the importer.
         double factor = 0;
-        float factor_f = 0;
-        // FBX: centimetres per unit (assimp leaves the coordinates in the file's units).
-        if (scene.mMetaData->Get("UnitScaleFactor", factor) || (scene.mMetaData->Get("UnitScaleFactor", factor_f)))
-            if (factor == 0) factor = factor_f;
+        float as_float = 0;
+        if (!scene.mMetaData->Get("UnitScaleFactor", factor) && scene.mMetaData->Get("UnitScaleFactor", as_float))
+            factor = as_float;
         if (factor > 0 && std::isfinite(factor))
             return {factor / 100.0, "the file (UnitScaleFactor " + short_text(factor) + " cm per unit)"};
     }

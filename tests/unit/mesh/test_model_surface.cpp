@@ -6,11 +6,13 @@
 #include "io/model_file.hpp"
 #include "mesh/model_surface.hpp"
 #include "mesh/remesh_model.hpp"
+#include "mesh/surface.hpp"
 
 #include <doctest/doctest.h>
 
 #include <cmath>
 #include <filesystem>
+#include <memory>
 
 using namespace crackle;
 
@@ -107,6 +109,36 @@ TEST_SUITE("mesh") {
         const mesh::ModelSurface ball(sphere(8, 0.2));
         const Vec3 q = Vec3(0.3, 0.1, -0.25);
         CHECK(ball.normal(ball.closest(q)).dot(q.normalized()) > 0.995);
+    }
+
+    TEST_CASE("model surface: a mesh surface's tangent frame follows the UV layout's u, else the projected x axis") {
+        // A unit square in the xy plane whose layout turns u along +y.
+        mesh::TriangleModel square;
+        square.positions = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(0, 1, 0)};
+        square.triangles = {{0, 1, 2}, {0, 2, 3}};
+        square.corner_uv = {{Vec2(0, 1), Vec2(0, 0), Vec2(1, 0)}, {Vec2(0, 1), Vec2(1, 0), Vec2(1, 1)}};
+        mesh::SurfaceOptions options;
+        options.kind = mesh::SurfaceKind::Mesh;
+        options.model = std::make_shared<const mesh::ModelSurface>(square);
+        const mesh::Surface turned(options);
+        CHECK(!turned.periodic());
+        CHECK(turned.area() == doctest::Approx(1.0));
+        for (const Vec3& p : {Vec3(0.2, 0.3, 0.1), Vec3(0.8, 0.6, -0.2)}) {
+            const mesh::TangentFrame f = turned.frame(p);
+            CHECK((f.e_u - Vec3::UnitY()).norm() < 1e-12);
+            CHECK((f.e_v + Vec3::UnitX()).norm() < 1e-12); // n × e_u
+            CHECK((f.n - Vec3::UnitZ()).norm() < 1e-12);
+            CHECK((turned.uv(p) - Vec2(p.y(), 1.0 - p.x())).norm() < 1e-12);
+            CHECK((turned.project(p) - Vec3(p.x(), p.y(), 0)).norm() < 1e-12);
+        }
+        // Without a layout: the x axis projected into the tangent plane (here a plane tilted about y).
+        mesh::TriangleModel tilted;
+        tilted.positions = {Vec3(0, 0, 0), Vec3(1, 0, 1), Vec3(1, 1, 1), Vec3(0, 1, 0)};
+        tilted.triangles = {{0, 1, 2}, {0, 2, 3}};
+        options.model = std::make_shared<const mesh::ModelSurface>(tilted);
+        const mesh::TangentFrame f = mesh::Surface(options).frame(Vec3(0.5, 0.5, 0.5));
+        CHECK((f.e_u - Vec3(1, 0, 1).normalized()).norm() < 1e-12);
+        CHECK(std::abs(f.e_u.dot(f.n)) < 1e-12);
     }
 
     TEST_CASE("remesh model: the count asked for, on the model, borders and topology kept, well-shaped, seeded") {
